@@ -1,0 +1,51 @@
+#pragma once
+// Road classes from the OSM `highway` tag, their importance and the import filter.
+// The class code is what crosses into Python and Blender (an edge attribute), so the
+// order of the enum is part of the file formats: append, never reorder.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ggg {
+
+enum class HighwayClass : std::uint8_t {
+    motorway, trunk, primary, secondary, tertiary, unclassified, residential, living_street,
+    motorway_link, trunk_link, primary_link, secondary_link, tertiary_link,
+    service, pedestrian, track, road, busway, footway, cycleway, path, steps, bridleway,
+    other,
+};
+inline constexpr int highway_class_count = static_cast<int>(HighwayClass::other) + 1;
+
+std::string_view highway_name(HighwayClass c) noexcept;
+// Any highway value not in the enum maps to `other` (e.g. "proposed", "corridor").
+HighwayClass highway_from_name(std::string_view value) noexcept;
+std::optional<HighwayClass> highway_from_known_name(std::string_view value) noexcept;
+
+// 1 = most important (motorway). Links rank one below their road.
+int highway_rank(HighwayClass c) noexcept;
+// Typical paved width in metres when neither `width` nor `lanes` is tagged.
+double highway_default_width(HighwayClass c) noexcept;
+
+// Which `highway=*` values an import keeps.
+class HighwayFilter {
+public:
+    // Motorway … residential, living_street, unclassified and their _link roads.
+    static HighwayFilter drivable();
+    static HighwayFilter all();
+    // "drivable", "all" or a comma-separated list of highway values ("primary,secondary").
+    // Throws UsageError naming an unknown value.
+    static HighwayFilter parse(std::string_view spec);
+
+    bool accepts(std::string_view highway_value) const noexcept;
+    const std::string& description() const noexcept { return description_; }
+
+private:
+    bool all_ = false;
+    std::vector<std::string> values_;
+    std::string description_;
+};
+
+} // namespace ggg

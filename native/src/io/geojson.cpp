@@ -1,0 +1,219 @@
+#include "ggg/io/geojson.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+
+#include "ggg/error.hpp"
+#include "ggg/projection.hpp"
+
+namespace ggg {
+namespace {
+
+// 1e-9 degree is 0.1 mm: finer than any survey, and short.
+void write_lonlat(std::ostream& out, const Vec2& lonlat) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "[%.9f,%.9f]", lonlat.x(), lonlat.y());
+    out << buffer;
+}
+
+} // namespace
+
+void write_geojson(const GeometricGraph& g, std::ostream& out) {
+    LocalProjection projection(g.origin);
+    std::vector<Vec2> lonlat(g.geometry);
+    projection.inverse(std::span<Vec2>(lonlat));
+
+    out << R"({"type":"FeatureCollection","ggg":{"format":"ggg-geojson","version":1,"origin_latlon":[)";
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.9f,%.9f", g.origin.lat, g.origin.lon);
+    out << buffer << "],\"crs_local\":" << nlohmann::json(projection.proj_string()).dump() << "},\n\"features\":[";
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        const auto id = static_cast<EdgeId>(e);
+        const auto [u, v] = g.edges[e];
+        out << (e ? ",\n" : "\n") << R"({"type":"Feature","properties":{"highway":")" << highway_name(g.edge_highway[e])
+            << "\",\"name\":" << nlohmann::json(std::string(g.edge_name(id))).dump()
+            << ",\"osm_way_id\":" << g.edge_way_ids[e] << ",\"oneway\":" << int(g.edge_oneway[e]) << ",\"lanes\":";
+        if (g.edge_lanes[e] > 0) out << g.edge_lanes[e];
+        else out << "null";
+        out << ",\"width\":";
+        if (std::isfinite(g.edge_width_m[e])) out << nlohmann::json(g.edge_width_m[e]).dump();
+        else out << "null";
+        out << ",\"from_osm_node\":" << g.vertex_osm_ids[static_cast<std::size_t>(u)]
+            << ",\"to_osm_node\":" << g.vertex_osm_ids[static_cast<std::size_t>(v)]
+            << R"(},"geometry":{"type":"LineString","coordinates":[)";
+        const auto begin = static_cast<std::size_t>(g.geometry_offsets[e]);
+        const auto end = static_cast<std::size_t>(g.geometry_offsets[e + 1]);
+        for (std::size_t i = begin; i < end; ++i) {
+            if (i > begin) out << ',';
+            write_lonlat(out, lonlat[i]);
+        }
+        out << "]}}";
+    }
+    out << "\n]}\n";
+}
+
+void write_geojson(const GeometricGraph& g, const std::string& path) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw InputError(path + ": cannot open for writing");
+    write_geojson(g, out);
+    out.flush();
+    if (!out) throw InputError(path + ": write failed");
+}
+
+namespace {
+
+struct GeoJsonReader {
+    const std::string& name;
+    TopologyInput input;
+    std::vector<Vec2> lonlat; // per node
+    std::unordered_map<std::uint64_t, std::int32_t> node_of;
+    std::size_t features = 0;
+
+    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+        throw InputError(name + ": " + where + ": " + what);
+    }
+
+    std::int32_t node(const nlohmann::json& position, const std::string& where, std::int64_t osm_id) {
+        if (!position.is_array() || position.size() < 2 || !position[0].is_number() || !position[1].is_number()) {
+            fail(where, "a position must be [longitude, latitude]");
+        }
+        const double lon = position[0].get<double>();
+        const double lat = position[1].get<double>();
+        if (!std::isfinite(lon) || !std::isfinite(lat) || std::abs(lon) > 180 || std::abs(lat) > 90) {
+            fail(where, "coordinates out of range (longitude must be in [-180, 180], latitude in [-90, 90])");
+        }
+        // One place is one node, as in OSM: 1e-7 degree is the OSM grid (about 1 cm).
+        const auto qx = static_cast<std::uint32_t>(static_cast<std::int32_t>(std::llround(lon * 1e7)));
+        const auto qy = static_cast<std::uint32_t>(static_cast<std::int32_t>(std::llround(lat * 1e7)));
+        const std::uint64_t key = (static_cast<std::uint64_t>(qx) << 32) | qy;
+        const auto [it, inserted] = node_of.emplace(key, static_cast<std::int32_t>(lonlat.size()));
+        if (inserted) {
+            lonlat.emplace_back(lon, lat);
+            input.node_osm_ids.push_back(osm_id);
+        } else if (osm_id != 0 && input.node_osm_ids[static_cast<std::size_t>(it->second)] == 0) {
+            input.node_osm_ids[static_cast<std::size_t>(it->second)] = osm_id;
+        }
+        return it->second;
+    }
+
+    static std::int64_t integer_or(const nlohmann::json& props, const char* key, std::int64_t fallback) {
+        const auto it = props.find(key);
+        return it != props.end() && it->is_number_integer() ? it->get<std::int64_t>() : fallback;
+    }
+
+    void line(const nlohmann::json& coordinates, const nlohmann::json& props, const std::string& where) {
+        if (!coordinates.is_array()) fail(where, "LineString coordinates must be an array");
+        if (coordinates.size() < 2) return; // a single point is no road
+        EdgeAttributes a;
+        if (props.is_object()) {
+            if (const auto it = props.find("highway"); it != props.end() && it->is_string()) a.highway = highway_from_name(it->get<std::string>());
+            if (const auto it = props.find("name"); it != props.end() && it->is_string()) a.name = it->get<std::string>();
+            a.way_id = integer_or(props, "osm_way_id", 0);
+            const auto oneway = integer_or(props, "oneway", 0);
+            a.oneway = static_cast<std::int8_t>(oneway > 0 ? 1 : oneway < 0 ? -1 : 0);
+            const auto lanes = integer_or(props, "lanes", 0);
+            a.lanes = static_cast<std::int16_t>(lanes > 0 && lanes <= 50 ? lanes : 0);
+            if (const auto it = props.find("width"); it != props.end() && it->is_number()) {
+                const double w = it->get<double>();
+                if (std::isfinite(w) && w > 0) a.width_m = w;
+            }
+        }
+        const std::int64_t from = props.is_object() ? integer_or(props, "from_osm_node", 0) : 0;
+        const std::int64_t to = props.is_object() ? integer_or(props, "to_osm_node", 0) : 0;
+        std::vector<std::int32_t> nodes;
+        nodes.reserve(coordinates.size());
+        for (std::size_t i = 0; i < coordinates.size(); ++i) {
+            const std::int64_t osm = i == 0 ? from : i + 1 == coordinates.size() ? to : 0;
+            nodes.push_back(node(coordinates[i], where + ".coordinates[" + std::to_string(i) + "]", osm));
+        }
+        input.add_way(nodes, std::move(a));
+    }
+
+    void geometry(const nlohmann::json& geom, const nlohmann::json& props, const std::string& where) {
+        if (geom.is_null()) return;
+        if (!geom.is_object() || !geom.contains("type") || !geom["type"].is_string()) fail(where, "a geometry needs a \"type\"");
+        const std::string type = geom["type"].get<std::string>();
+        if (type == "LineString") {
+            if (!geom.contains("coordinates")) fail(where, "missing \"coordinates\"");
+            line(geom["coordinates"], props, where);
+        } else if (type == "MultiLineString") {
+            if (!geom.contains("coordinates") || !geom["coordinates"].is_array()) fail(where, "missing \"coordinates\"");
+            for (std::size_t i = 0; i < geom["coordinates"].size(); ++i) {
+                line(geom["coordinates"][i], props, where + ".coordinates[" + std::to_string(i) + "]");
+            }
+        } else if (type == "GeometryCollection") {
+            if (geom.contains("geometries") && geom["geometries"].is_array()) {
+                for (std::size_t i = 0; i < geom["geometries"].size(); ++i) {
+                    geometry(geom["geometries"][i], props, where + ".geometries[" + std::to_string(i) + "]");
+                }
+            }
+        } // points and polygons are not roads
+    }
+
+    void feature(const nlohmann::json& f, const std::string& where) {
+        if (!f.is_object()) fail(where, "a feature must be an object");
+        ++features;
+        const nlohmann::json no_properties = nlohmann::json::object();
+        const auto props = f.find("properties");
+        const auto geom = f.find("geometry");
+        if (geom == f.end()) fail(where, "a feature needs a \"geometry\"");
+        geometry(*geom, props != f.end() ? *props : no_properties, where + ".geometry");
+    }
+};
+
+} // namespace
+
+GeometricGraph read_geojson(const std::string& text, const std::string& name, const TopologyOptions& options) {
+    nlohmann::json doc;
+    try {
+        doc = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(name + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+    }
+    GeoJsonReader reader{name, {}, {}, {}};
+    if (!doc.is_object() || !doc.contains("type") || !doc["type"].is_string()) {
+        throw InputError(name + ": not GeoJSON (no \"type\" member)");
+    }
+    const std::string type = doc["type"].get<std::string>();
+    if (type == "FeatureCollection") {
+        if (!doc.contains("features") || !doc["features"].is_array()) throw InputError(name + ": a FeatureCollection needs a \"features\" array");
+        const auto& features = doc["features"];
+        for (std::size_t i = 0; i < features.size(); ++i) reader.feature(features[i], "features[" + std::to_string(i) + "]");
+    } else if (type == "Feature") {
+        reader.feature(doc, "feature");
+    } else {
+        reader.geometry(doc, nlohmann::json::object(), "geometry");
+    }
+    if (reader.input.way_count() == 0) {
+        throw InputError(name + ": no roads: the GeoJSON has no LineString or MultiLineString with two or more positions");
+    }
+    GeoOrigin origin;
+    bool have_origin = false;
+    if (const auto it = doc.find("ggg"); it != doc.end() && it->is_object()) {
+        const auto o = it->find("origin_latlon");
+        if (o != it->end() && o->is_array() && o->size() == 2 && (*o)[0].is_number() && (*o)[1].is_number()) {
+            origin = {(*o)[0].get<double>(), (*o)[1].get<double>()};
+            have_origin = std::isfinite(origin.lat) && std::isfinite(origin.lon) && std::abs(origin.lat) <= 90 && std::abs(origin.lon) <= 180;
+        }
+    }
+    if (!have_origin) {
+        double min_lon = 180, max_lon = -180, min_lat = 90, max_lat = -90;
+        for (const Vec2& p : reader.lonlat) {
+            min_lon = std::min(min_lon, p.x());
+            max_lon = std::max(max_lon, p.x());
+            min_lat = std::min(min_lat, p.y());
+            max_lat = std::max(max_lat, p.y());
+        }
+        origin = {(min_lat + max_lat) / 2, (min_lon + max_lon) / 2};
+    }
+    LocalProjection projection(origin);
+    projection.forward(std::span<Vec2>(reader.lonlat));
+    reader.input.node_positions = std::move(reader.lonlat);
+    return build_graph(reader.input, origin, options);
+}
+
+} // namespace ggg

@@ -1,0 +1,237 @@
+#include "ggg/io/graph_file.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "ggg/error.hpp"
+
+namespace ggg {
+
+using nlohmann::json;
+
+namespace {
+
+bool frame_is_default(const GeometricGraph& g, std::size_t v) {
+    const Similarity2& f = g.frames[v];
+    return f.a == 1.0 && f.b == 0.0 && f.t == g.positions[v];
+}
+
+} // namespace
+
+json graph_to_json(const GeometricGraph& g) {
+    const std::size_t n = g.vertex_count();
+    const std::size_t m = g.edge_count();
+    json x = json::array(), y = json::array(), osm = json::array();
+    for (std::size_t v = 0; v < n; ++v) {
+        x.push_back(g.positions[v].x());
+        y.push_back(g.positions[v].y());
+        osm.push_back(g.vertex_osm_ids[v]);
+    }
+    json vertices = {{"x", std::move(x)}, {"y", std::move(y)}, {"osm_id", std::move(osm)}};
+    // Symbols and frames matter only once a grammar is involved: written when not default.
+    bool any_symbol = false, any_frame = false;
+    for (std::size_t v = 0; v < n; ++v) {
+        any_symbol |= g.symbols[v] != 0;
+        any_frame |= !frame_is_default(g, v);
+    }
+    if (any_symbol) vertices["symbol"] = g.symbols;
+    if (any_frame) {
+        json frames = json::array();
+        for (const auto& f : g.frames) frames.push_back({f.a, f.b, f.t.x(), f.t.y()});
+        vertices["frame"] = std::move(frames);
+    }
+
+    json u = json::array(), v = json::array(), highway = json::array(), oneway = json::array(), lanes = json::array(),
+         width = json::array(), way = json::array(), name = json::array(), shape = json::array();
+    for (std::size_t e = 0; e < m; ++e) {
+        u.push_back(g.edges[e][0]);
+        v.push_back(g.edges[e][1]);
+        highway.push_back(static_cast<int>(g.edge_highway[e]));
+        oneway.push_back(g.edge_oneway[e]);
+        lanes.push_back(g.edge_lanes[e]);
+        if (std::isfinite(g.edge_width_m[e])) width.push_back(g.edge_width_m[e]);
+        else width.push_back(nullptr);
+        way.push_back(g.edge_way_ids[e]);
+        name.push_back(g.edge_name_index[e]);
+        json points = json::array();
+        const auto begin = static_cast<std::size_t>(g.geometry_offsets[e]) + 1;
+        const auto end = static_cast<std::size_t>(g.geometry_offsets[e + 1]) - 1;
+        for (std::size_t i = begin; i < end; ++i) {
+            points.push_back(g.geometry[i].x());
+            points.push_back(g.geometry[i].y());
+        }
+        shape.push_back(std::move(points));
+    }
+    json classes = json::array();
+    for (int c = 0; c < highway_class_count; ++c) classes.push_back(highway_name(static_cast<HighwayClass>(c)));
+    return {
+        {"format", "ggg-graph"},
+        {"version", graph_file_version},
+        {"origin_latlon", {g.origin.lat, g.origin.lon}},
+        {"highway_classes", std::move(classes)},
+        {"names", g.names},
+        {"vertices", std::move(vertices)},
+        {"edges",
+         {{"u", std::move(u)}, {"v", std::move(v)}, {"highway", std::move(highway)}, {"oneway", std::move(oneway)},
+          {"lanes", std::move(lanes)}, {"width", std::move(width)}, {"way_id", std::move(way)},
+          {"name", std::move(name)}, {"shape", std::move(shape)}}},
+    };
+}
+
+namespace {
+
+class Reader {
+public:
+    explicit Reader(const std::string& name) : name_(name) {}
+
+    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+        throw InputError(name_ + ": " + where + ": " + what);
+    }
+
+    const json& member(const json& object, const char* key, const std::string& where) const {
+        if (!object.is_object()) fail(where, "must be an object");
+        const auto it = object.find(key);
+        if (it == object.end()) fail(where, std::string("missing \"") + key + "\"");
+        return *it;
+    }
+
+    const json& column(const json& object, const char* key, const std::string& where, std::size_t size) const {
+        const json& c = member(object, key, where);
+        if (!c.is_array()) fail(where + "." + key, "must be an array");
+        if (size != npos && c.size() != size) {
+            fail(where + "." + key, "has " + std::to_string(c.size()) + " entries, expected " + std::to_string(size));
+        }
+        return c;
+    }
+
+    double number(const json& value, const std::string& where) const {
+        if (!value.is_number()) fail(where, "must be a number");
+        const double d = value.get<double>();
+        if (!std::isfinite(d)) fail(where, "must be finite");
+        return d;
+    }
+
+    std::int64_t integer(const json& value, const std::string& where, std::int64_t lo, std::int64_t hi) const {
+        if (!value.is_number_integer()) fail(where, "must be an integer");
+        const auto i = value.get<std::int64_t>();
+        if (i < lo || i > hi) fail(where, std::to_string(i) + " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return i;
+    }
+
+    static constexpr std::size_t npos = static_cast<std::size_t>(-1);
+
+private:
+    const std::string& name_;
+};
+
+std::string at(const char* column, std::size_t i) { return std::string(column) + "[" + std::to_string(i) + "]"; }
+
+} // namespace
+
+GeometricGraph graph_from_json(const json& doc, const std::string& name) {
+    Reader r(name);
+    if (!doc.is_object() || doc.value("format", "") != "ggg-graph") {
+        throw InputError(name + ": not a ggg graph file (\"format\": \"ggg-graph\" missing)");
+    }
+    const auto version = r.integer(r.member(doc, "version", "file"), "version", 1, 1 << 20);
+    if (version > graph_file_version) {
+        throw InputError(name + ": graph file version " + std::to_string(version) + " is newer than this program reads (" +
+                         std::to_string(graph_file_version) + "); update ggg");
+    }
+    GeometricGraph g;
+    const json& origin = r.column(doc, "origin_latlon", "file", 2);
+    g.origin = {r.number(origin[0], "origin_latlon[0]"), r.number(origin[1], "origin_latlon[1]")};
+    if (std::abs(g.origin.lat) > 90 || std::abs(g.origin.lon) > 180) r.fail("origin_latlon", "out of range");
+
+    const json& names = r.column(doc, "names", "file", Reader::npos);
+    if (names.empty() || names[0] != "") r.fail("names", "must start with the empty name");
+    g.names.clear();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        if (!names[i].is_string()) r.fail(at("names", i), "must be a string");
+        g.names.push_back(names[i].get<std::string>());
+    }
+
+    const json& vertices = r.member(doc, "vertices", "file");
+    const json& x = r.column(vertices, "x", "vertices", Reader::npos);
+    const std::size_t n = x.size();
+    const json& y = r.column(vertices, "y", "vertices", n);
+    const json& osm = r.column(vertices, "osm_id", "vertices", n);
+    g.reserve(n, 0, 0);
+    for (std::size_t v = 0; v < n; ++v) {
+        g.add_vertex({r.number(x[v], "vertices." + at("x", v)), r.number(y[v], "vertices." + at("y", v))},
+                     r.integer(osm[v], "vertices." + at("osm_id", v), std::numeric_limits<std::int64_t>::min(),
+                               std::numeric_limits<std::int64_t>::max()));
+    }
+    if (vertices.contains("symbol")) {
+        const json& s = r.column(vertices, "symbol", "vertices", n);
+        for (std::size_t v = 0; v < n; ++v) g.symbols[v] = static_cast<std::uint32_t>(r.integer(s[v], "vertices." + at("symbol", v), 0, std::numeric_limits<std::uint32_t>::max()));
+    }
+    if (vertices.contains("frame")) {
+        const json& f = r.column(vertices, "frame", "vertices", n);
+        for (std::size_t v = 0; v < n; ++v) {
+            const std::string where = "vertices." + at("frame", v);
+            if (!f[v].is_array() || f[v].size() != 4) r.fail(where, "must be [a, b, tx, ty]");
+            g.frames[v] = {r.number(f[v][0], where), r.number(f[v][1], where), {r.number(f[v][2], where), r.number(f[v][3], where)}};
+            if (g.frames[v].a == 0 && g.frames[v].b == 0) r.fail(where, "a frame must not have zero scale");
+        }
+    }
+
+    const json& edges = r.member(doc, "edges", "file");
+    const json& u = r.column(edges, "u", "edges", Reader::npos);
+    const std::size_t m = u.size();
+    const json& v = r.column(edges, "v", "edges", m);
+    const json& highway = r.column(edges, "highway", "edges", m);
+    const json& oneway = r.column(edges, "oneway", "edges", m);
+    const json& lanes = r.column(edges, "lanes", "edges", m);
+    const json& width = r.column(edges, "width", "edges", m);
+    const json& way = r.column(edges, "way_id", "edges", m);
+    const json& name_index = r.column(edges, "name", "edges", m);
+    const json& shape = r.column(edges, "shape", "edges", m);
+    const auto last_vertex = static_cast<std::int64_t>(n) - 1;
+    std::vector<Vec2> line;
+    for (std::size_t e = 0; e < m; ++e) {
+        const auto a = static_cast<VertexId>(r.integer(u[e], "edges." + at("u", e), 0, last_vertex));
+        const auto b = static_cast<VertexId>(r.integer(v[e], "edges." + at("v", e), 0, last_vertex));
+        EdgeAttributes attributes;
+        attributes.highway = static_cast<HighwayClass>(r.integer(highway[e], "edges." + at("highway", e), 0, highway_class_count - 1));
+        attributes.oneway = static_cast<std::int8_t>(r.integer(oneway[e], "edges." + at("oneway", e), -1, 1));
+        attributes.lanes = static_cast<std::int16_t>(r.integer(lanes[e], "edges." + at("lanes", e), 0, 50));
+        if (!width[e].is_null()) attributes.width_m = r.number(width[e], "edges." + at("width", e));
+        attributes.way_id = r.integer(way[e], "edges." + at("way_id", e), std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max());
+        attributes.name = g.names[static_cast<std::size_t>(r.integer(name_index[e], "edges." + at("name", e), 0, static_cast<std::int64_t>(g.names.size()) - 1))];
+        const json& points = shape[e];
+        const std::string where = "edges." + at("shape", e);
+        if (!points.is_array() || points.size() % 2 != 0) r.fail(where, "must be a flat array [x0, y0, x1, y1, ...]");
+        line.clear();
+        line.push_back(g.positions[static_cast<std::size_t>(a)]);
+        for (std::size_t i = 0; i < points.size(); i += 2) line.emplace_back(r.number(points[i], where), r.number(points[i + 1], where));
+        line.push_back(g.positions[static_cast<std::size_t>(b)]);
+        g.add_edge(a, b, attributes, line);
+    }
+    return g;
+}
+
+void write_graph_file(const GeometricGraph& g, const std::string& path) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw InputError(path + ": cannot open for writing");
+    out << graph_to_json(g).dump() << '\n';
+    out.flush();
+    if (!out) throw InputError(path + ": write failed");
+}
+
+GeometricGraph read_graph_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open");
+    json doc;
+    try {
+        doc = json::parse(in);
+    } catch (const json::parse_error& e) {
+        throw InputError(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+    }
+    return graph_from_json(doc, path);
+}
+
+} // namespace ggg

@@ -1,0 +1,79 @@
+#include "ggg/io/read_graph.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "ggg/error.hpp"
+#include "ggg/io/geojson.hpp"
+#include "ggg/io/graph_file.hpp"
+
+namespace ggg {
+namespace {
+
+bool ends_with(const std::string& s, std::string_view suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open");
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+} // namespace
+
+GraphFileType graph_file_type(const std::string& path) {
+    if (ends_with(path, ".ggraph")) return GraphFileType::graph_file;
+    if (ends_with(path, ".geojson") || ends_with(path, ".json")) return GraphFileType::geojson;
+    if (is_osm_path(path)) return GraphFileType::osm;
+    return GraphFileType::unknown;
+}
+
+GeometricGraph read_graph(const std::string& path, const ImportOptions& options, ImportReport* import_report,
+                          const ProgressCallback& progress) {
+    const GraphFileType type = graph_file_type(path);
+    if (type == GraphFileType::osm) return import_osm(path, options, import_report, progress);
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+    if (type == GraphFileType::unknown) {
+        throw InputError(path + ": unknown file type (expected .osm, .osm.pbf, .osm.bz2, .osm.gz, .geojson or .ggraph)");
+    }
+    report(progress, 0.0, "reading " + std::filesystem::path(path).filename().string());
+    std::string text = read_text(path);
+    if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": the file is empty");
+    // A .json may hold either format; the content decides.
+    const bool own = type == GraphFileType::graph_file ||
+                     text.substr(0, 256).find("\"ggg-graph\"") != std::string::npos;
+    GeometricGraph g;
+    if (own) {
+        nlohmann::json doc;
+        try {
+            doc = nlohmann::json::parse(text);
+        } catch (const nlohmann::json::parse_error& e) {
+            throw InputError(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+        }
+        text.clear();
+        g = graph_from_json(doc, path);
+    } else {
+        g = read_geojson(text, path, options.topology);
+    }
+    report(progress, 1.0, "done");
+    return g;
+}
+
+void write_graph(const GeometricGraph& graph, const std::string& path) {
+    if (ends_with(path, ".ggraph")) {
+        write_graph_file(graph, path);
+    } else if (ends_with(path, ".geojson") || ends_with(path, ".json")) {
+        write_geojson(graph, path);
+    } else {
+        throw UsageError(path + ": unknown output type (use .geojson or .ggraph)");
+    }
+}
+
+} // namespace ggg

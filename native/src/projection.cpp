@@ -1,0 +1,84 @@
+#include "ggg/projection.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include <proj.h>
+
+#include "ggg/error.hpp"
+
+namespace ggg {
+
+struct LocalProjection::Impl {
+    PJ_CONTEXT* ctx = nullptr;
+    PJ* pj = nullptr;
+    ~Impl() {
+        if (pj) proj_destroy(pj);
+        if (ctx) proj_context_destroy(ctx);
+    }
+};
+
+std::string LocalProjection::proj_string() const {
+    char buffer[160];
+    std::snprintf(buffer, sizeof buffer, "+proj=tmerc +lat_0=%.9f +lon_0=%.9f +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m",
+                  origin_.lat, origin_.lon);
+    return buffer;
+}
+
+LocalProjection::LocalProjection(GeoOrigin origin) : origin_(origin), impl_(std::make_unique<Impl>()) {
+    if (!std::isfinite(origin.lat) || !std::isfinite(origin.lon) || std::abs(origin.lat) > 90.0 ||
+        std::abs(origin.lon) > 180.0) {
+        throw InputError("projection origin out of range: lat " + std::to_string(origin.lat) + ", lon " +
+                         std::to_string(origin.lon));
+    }
+    impl_->ctx = proj_context_create();
+    proj_log_level(impl_->ctx, PJ_LOG_NONE);
+    proj_context_set_enable_network(impl_->ctx, 0);
+    const std::string definition =
+        "+proj=pipeline +step +proj=unitconvert +xy_in=deg +xy_out=rad +step " + proj_string();
+    impl_->pj = proj_create(impl_->ctx, definition.c_str());
+    if (!impl_->pj) {
+        throw Error("cannot create the map projection: " +
+                    std::string(proj_context_errno_string(impl_->ctx, proj_context_errno(impl_->ctx))));
+    }
+}
+
+LocalProjection::~LocalProjection() = default;
+
+namespace {
+void transform(PJ* pj, PJ_DIRECTION direction, std::span<Vec2> xy) {
+    if (xy.empty()) return;
+    double* x = xy.data()->data();
+    const std::size_t stride = sizeof(Vec2);
+    proj_trans_generic(pj, direction, x, stride, xy.size(), x + 1, stride, xy.size(), nullptr, 0, 0,
+                       nullptr, 0, 0);
+}
+} // namespace
+
+void LocalProjection::forward(std::span<Vec2> xy) const { transform(impl_->pj, PJ_FWD, xy); }
+void LocalProjection::inverse(std::span<Vec2> xy) const { transform(impl_->pj, PJ_INV, xy); }
+
+Vec2 LocalProjection::forward(double lon, double lat) const {
+    Vec2 p{lon, lat};
+    forward(std::span<Vec2>(&p, 1));
+    return p;
+}
+
+Vec2 LocalProjection::inverse(const Vec2& xy) const {
+    Vec2 p = xy;
+    inverse(std::span<Vec2>(&p, 1));
+    return p;
+}
+
+double haversine_m(double lat1, double lon1, double lat2, double lon2) {
+    constexpr double radius = 6371008.8; // IUGG mean earth radius
+    constexpr double deg = M_PI / 180.0;
+    const double dlat = (lat2 - lat1) * deg;
+    const double dlon = (lon2 - lon1) * deg;
+    const double h = std::sin(dlat / 2) * std::sin(dlat / 2) +
+                     std::cos(lat1 * deg) * std::cos(lat2 * deg) * std::sin(dlon / 2) * std::sin(dlon / 2);
+    return 2 * radius * std::asin(std::min(1.0, std::sqrt(h)));
+}
+
+} // namespace ggg

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs every Debian package the project needs (build, tests, Blender, demo).
+# Idempotent: packages already present are left as they are.
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libosmium2-dev libprotozero-dev libbz2-dev zlib1g-dev libexpat1-dev
+  libeigen3-dev libboost-dev libproj-dev proj-data libtbb-dev
+  nlohmann-json3-dev libcli11-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  libgtest-dev libgmock-dev libbenchmark-dev
+  blender zip
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "error: missing packages (${missing[*]}); run this script as root" >&2
+    exit 1
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
