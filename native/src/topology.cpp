@@ -28,6 +28,8 @@ using BoostBox = bg::model::box<BoostPoint>;
 struct Piece {
     std::int32_t u;
     std::int32_t v;
+    std::int32_t node_u; // the end nodes before consolidation
+    std::int32_t node_v;
     std::vector<std::int32_t> interior;
     std::uint32_t way;
     bool keep = true;
@@ -146,7 +148,7 @@ private:
                     continue;
                 }
                 if (start >= 0) {
-                    pieces_.push_back({start, node, std::move(interior), static_cast<std::uint32_t>(w)});
+                    pieces_.push_back({start, node, start, node, std::move(interior), static_cast<std::uint32_t>(w)});
                     interior.clear();
                 }
                 start = node;
@@ -168,9 +170,10 @@ private:
     void promote(std::size_t i, std::size_t index) {
         Piece& p = pieces_[i];
         const std::int32_t node = p.interior[index];
-        Piece rest{node, p.v, std::vector<std::int32_t>(p.interior.begin() + static_cast<std::ptrdiff_t>(index) + 1, p.interior.end()), p.way};
+        Piece rest{node, p.v, node, p.node_v, std::vector<std::int32_t>(p.interior.begin() + static_cast<std::ptrdiff_t>(index) + 1, p.interior.end()), p.way};
         p.interior.resize(index);
         p.v = node;
+        p.node_v = node;
         ++report_.promoted_shape_nodes;
         pieces_.push_back(std::move(rest));
     }
@@ -237,7 +240,7 @@ private:
                 promote(i, a);
             } else if (p.interior.size() == 1) {
                 // u -> x -> u runs the same segment twice: keep it once, as a spur.
-                pieces_[i].v = pieces_[i].interior[0];
+                pieces_[i].v = pieces_[i].node_v = pieces_[i].interior[0];
                 pieces_[i].interior.clear();
                 ++report_.promoted_shape_nodes;
             } else {
@@ -245,6 +248,20 @@ private:
                 ++report_.dropped_degenerate;
             }
         }
+    }
+
+    // The road direction a piece allows, relative to its u -> v: 1, -1, or 0 for both.
+    int direction(const Piece& p) const { return in_.way_attributes[p.way].oneway; }
+
+    // Piece `dropped` is stored as `kept`; if they let traffic go different ways, the kept
+    // one now carries both (two one-way carriageways are one two-way road).
+    void absorb(std::size_t kept, std::size_t dropped) {
+        Piece& k = pieces_[kept];
+        Piece& d = pieces_[dropped];
+        d.keep = false;
+        const int kept_direction = direction(k);
+        const int dropped_direction = (d.u == k.u ? 1 : -1) * direction(d);
+        if (kept_direction != 0 && dropped_direction != kept_direction) k.both_directions = true;
     }
 
     static bool same_run(const Piece& a, const Piece& b) {
@@ -278,10 +295,12 @@ private:
             kept.assign(1, order[group_begin]);
             for (std::size_t k = group_begin + 1; k < group_end; ++k) {
                 const std::size_t i = order[k];
-                const bool duplicate = std::any_of(kept.begin(), kept.end(), [&](std::size_t j) { return same_run(pieces_[i], pieces_[j]); });
-                if (duplicate) {
-                    pieces_[i].keep = false;
-                    ++report_.duplicate_pieces;
+                const auto same = std::find_if(kept.begin(), kept.end(), [&](std::size_t j) { return same_run(pieces_[i], pieces_[j]); });
+                if (same != kept.end()) {
+                    absorb(*same, i);
+                    const bool same_nodes = std::minmax(pieces_[i].node_u, pieces_[i].node_v) ==
+                                            std::minmax(pieces_[*same].node_u, pieces_[*same].node_v);
+                    ++(same_nodes ? report_.duplicate_pieces : report_.merged_parallel);
                     continue;
                 }
                 if (options_.consolidate_m > 0) {
@@ -291,9 +310,8 @@ private:
                         const auto other = polyline(pieces_[j]);
                         return within(line, other, tolerance) && within(other, line, tolerance);
                     });
-                    if (close != kept.end()) { // a dual carriageway: one road, both directions
-                        pieces_[i].keep = false;
-                        pieces_[*close].both_directions = true;
+                    if (close != kept.end()) { // a dual carriageway: one road
+                        absorb(*close, i);
                         ++report_.merged_parallel;
                         continue;
                     }

@@ -1,0 +1,78 @@
+#include "fixtures.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+
+namespace ggg::test {
+
+namespace fs = std::filesystem;
+
+std::string temp_path(const std::string& suffix) {
+    static int counter = 0;
+    const fs::path dir = fs::temp_directory_path() / ("ggg_tests_" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    return (dir / ("f" + std::to_string(counter++) + suffix)).string();
+}
+
+std::string temp_file(const std::string& content, const std::string& suffix) {
+    const std::string path = temp_path(suffix);
+    std::ofstream(path, std::ios::binary) << content;
+    return path;
+}
+
+std::string shared_osm_dir() {
+    const fs::path dir(GGG_SHARED_OSM_DIR);
+    return fs::is_directory(dir) ? fs::canonical(dir).string() : std::string{};
+}
+
+std::vector<std::string> corpus_files() {
+    std::vector<std::string> files;
+    const std::string dir = shared_osm_dir();
+    if (dir.empty()) return files;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        const std::string name = entry.path().filename().string();
+        if (name.find(".osm") != std::string::npos) files.push_back(entry.path().string());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+std::size_t component_count(const GeometricGraph& g) {
+    std::vector<std::int32_t> parent(g.vertex_count());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](std::int32_t x) {
+        while (parent[static_cast<std::size_t>(x)] != x) x = parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
+        return x;
+    };
+    std::size_t components = g.vertex_count();
+    for (const auto& [u, v] : g.edges) {
+        const auto a = find(u), b = find(v);
+        if (a != b) {
+            parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+            --components;
+        }
+    }
+    return components;
+}
+
+CliResult run_cli(const std::string& arguments) {
+    const std::string err_path = temp_path(".err");
+    const std::string command = std::string("'") + GGG_CLI_PATH + "' " + arguments + " 2>'" + err_path + "'";
+    FILE* pipe = popen(command.c_str(), "r");
+    std::string out;
+    std::array<char, 4096> buffer{};
+    while (pipe && fgets(buffer.data(), buffer.size(), pipe)) out += buffer.data();
+    const int status = pipe ? pclose(pipe) : -1;
+    std::ifstream err_in(err_path);
+    std::stringstream err;
+    err << err_in.rdbuf();
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err.str()};
+}
+
+} // namespace ggg::test

@@ -1,0 +1,38 @@
+#pragma once
+// Shared helpers of the tests: inline OSM fixtures written to temporary files, the corpus
+// of real extracts in ../shared/osm (skipped with a message where it is absent), and
+// invariant checkers.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ggg/geometric_graph.hpp"
+
+namespace ggg::test {
+
+// Writes `content` to a fresh temporary file whose name ends in `suffix` (".opl", ".osm", ...).
+std::string temp_file(const std::string& content, const std::string& suffix);
+std::string temp_path(const std::string& suffix);
+
+// The folder of real extracts, or empty when ../shared is not beside the project.
+std::string shared_osm_dir();
+std::vector<std::string> corpus_files();
+
+// Number of connected components (isolated vertices count as one each).
+std::size_t component_count(const GeometricGraph& g);
+
+// Result of running the CLI: exit code, stdout, stderr.
+struct CliResult {
+    int code;
+    std::string out;
+    std::string err;
+};
+CliResult run_cli(const std::string& arguments);
+
+} // namespace ggg::test
+
+#define GGG_REQUIRE_CORPUS()                                                                          \
+    do {                                                                                              \
+        if (ggg::test::shared_osm_dir().empty())                                                      \
+            GTEST_SKIP() << "../shared/osm not found: the real OSM extracts are not on this machine"; \
+    } while (0)
