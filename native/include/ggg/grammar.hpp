@@ -1,0 +1,88 @@
+#pragma once
+// Geometric graph grammar (paper 3.2): rules q -> S/B and an axiom. A rule's right side S
+// is a small geometric graph in the rule's frame; each of its vertices carries a symbol
+// (0 = terminal street vertex, k = nonterminal of rule k), a transform T_i that gives the
+// frame of the vertex for the next rewriting, and embedding points p_ij: offsets from the
+// vertex, in the rule's frame, where a vertex of the host graph is expected to connect.
+//
+// Frames are kept as scale and rotation in degrees, the numbers a person writes in a
+// grammar file, so that a file reads back to exactly the grammar that wrote it.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ggg/geometric_graph.hpp"
+#include "ggg/similarity.hpp"
+
+namespace ggg {
+
+using Symbol = std::uint32_t; // 0 = terminal
+
+struct Frame {
+    double scale = 1.0;
+    double rotation_deg = 0.0;
+
+    // The similarity with this scale and rotation whose origin sits at `origin`.
+    Similarity2 at(const Vec2& origin) const;
+    bool operator==(const Frame&) const = default;
+};
+
+struct EmbeddingPoint {
+    Vec2 offset = Vec2::Zero(); // from the vertex, in the rule's frame
+    HighwayClass highway = HighwayClass::residential; // class of the connecting edge
+    bool operator==(const EmbeddingPoint&) const = default;
+};
+
+struct RuleVertex {
+    Vec2 position = Vec2::Zero();
+    Symbol symbol = 0;
+    Frame transform; // T_i: the frame of this vertex relative to the rule's frame
+    std::vector<EmbeddingPoint> embedding;
+    bool operator==(const RuleVertex&) const = default;
+};
+
+struct GrammarEdge {
+    std::int32_t a = 0;
+    std::int32_t b = 0;
+    HighwayClass highway = HighwayClass::residential;
+    bool operator==(const GrammarEdge&) const = default;
+};
+
+struct Rule {
+    Symbol symbol = 0; // the left side q (> 0)
+    std::vector<RuleVertex> vertices;
+    std::vector<GrammarEdge> edges;
+    std::uint64_t uses = 0; // how often the rule occurs (learned grammars); 0 = unknown
+    bool operator==(const Rule&) const = default;
+};
+
+struct AxiomVertex {
+    Vec2 position = Vec2::Zero();
+    Symbol symbol = 0;
+    Frame frame;
+    bool operator==(const AxiomVertex&) const = default;
+};
+
+struct Grammar {
+    std::string name;
+    std::vector<std::string> symbol_names; // symbol k is symbol_names[k - 1]
+    std::vector<Rule> rules;               // at most one rule per symbol
+    GeoOrigin origin;                      // where the axiom sits on the earth (0, 0 = abstract)
+    std::vector<AxiomVertex> axiom_vertices;
+    std::vector<GrammarEdge> axiom_edges;
+
+    // The rule rewriting `symbol`, or nullptr when the symbol has none.
+    const Rule* rule_for(Symbol symbol) const;
+    // Name of a symbol ("terminal" for 0).
+    std::string symbol_name(Symbol symbol) const;
+    // The axiom as a graph: nonterminal vertices carry their frames.
+    GeometricGraph axiom_graph() const;
+
+    bool operator==(const Grammar& other) const;
+};
+
+// Checks everything a derivation relies on; throws GrammarError naming the place
+// ("rules[1].vertices[2].symbol: unknown symbol 7").
+void validate(const Grammar& grammar);
+
+} // namespace ggg

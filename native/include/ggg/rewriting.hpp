@@ -1,0 +1,62 @@
+#pragma once
+// Forward rewriting (paper 3.2-3.3). One derivation step rewrites every nonterminal vertex
+// of the graph at once: for each, the rule's S is mapped into the vertex's frame, the vertex
+// and its edges are erased, S is placed, and the embedding points are connected to host
+// vertices found within the tolerance. Steps are applied sequentially in vertex order so a
+// step is deterministic; it reads as simultaneous because every rewrite of a step sees the
+// host as it was plus what the step has placed so far, never a half-rewritten vertex.
+//
+// Merging: a placed vertex that lands within the tolerance of a vertex already there is that
+// vertex. Two nonterminals only merge when they would rewrite identically (same symbol and
+// frame); otherwise both stay, since each stands for its own pending rewrite.
+#include <cstdint>
+#include <string>
+
+#include "ggg/geometric_graph.hpp"
+#include "ggg/grammar.hpp"
+#include "ggg/progress.hpp"
+
+namespace ggg {
+
+struct DeriveOptions {
+    int max_steps = 1;
+    std::size_t max_vertices = 1'000'000;
+    // Distance within which an embedding point finds its partner and placed vertices merge.
+    double tolerance = 0.05;
+    // true: `tolerance` is a fraction of the rewritten vertex's frame scale; false: metres.
+    bool tolerance_relative = true;
+    // true: a rewrite happens only when every embedding point finds a partner among the
+    // vertices that the step does not rewrite; false (relaxed, paper 3.3): missing partners
+    // are skipped.
+    bool strict = false;
+};
+
+struct StepReport {
+    std::size_t rewrites = 0;          // nonterminals rewritten
+    std::size_t refused = 0;           // strict mode: rewrites refused for a missing partner
+    std::size_t embedding_edges = 0;   // edges made by embedding points
+    std::size_t missed_embeddings = 0; // relaxed mode: points with no partner
+    std::size_t merged_vertices = 0;   // placed vertices that landed on existing ones
+};
+
+struct DeriveReport {
+    int steps = 0;                  // steps applied
+    bool stopped_by_budget = false; // a step was not applied because it would pass max_vertices
+    bool nothing_to_rewrite = false;
+    StepReport totals;
+};
+
+// One step on `graph` in place. Returns false and leaves the graph unchanged when the
+// step would pass `options.max_vertices` (or nothing can be rewritten).
+bool derive_step(GeometricGraph& graph, const Grammar& grammar, const DeriveOptions& options, StepReport* report = nullptr,
+                 bool* over_budget = nullptr);
+
+// Up to options.max_steps steps from `graph` (the axiom, or a road network to grow).
+DeriveReport derive(GeometricGraph& graph, const Grammar& grammar, const DeriveOptions& options,
+                    const ProgressCallback& progress = {});
+
+// Places nonterminal `symbol` of `grammar` as a new vertex of `graph` at `position` with the
+// given frame (what a user does with the 3D cursor). Returns the new vertex.
+VertexId place_nonterminal(GeometricGraph& graph, Symbol symbol, const Vec2& position, const Frame& frame);
+
+} // namespace ggg

@@ -1,0 +1,113 @@
+#include "ggg/grammar.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "ggg/error.hpp"
+
+namespace ggg {
+
+Similarity2 Frame::at(const Vec2& origin) const {
+    return Similarity2::from(scale, rotation_deg * M_PI / 180.0, origin);
+}
+
+const Rule* Grammar::rule_for(Symbol symbol) const {
+    for (const Rule& r : rules) {
+        if (r.symbol == symbol) return &r;
+    }
+    return nullptr;
+}
+
+std::string Grammar::symbol_name(Symbol symbol) const {
+    if (symbol == 0) return "terminal";
+    if (symbol <= symbol_names.size()) return symbol_names[symbol - 1];
+    return "#" + std::to_string(symbol);
+}
+
+GeometricGraph Grammar::axiom_graph() const {
+    GeometricGraph g;
+    g.origin = origin;
+    for (const AxiomVertex& v : axiom_vertices) {
+        const VertexId id = g.add_vertex(v.position);
+        g.symbols[static_cast<std::size_t>(id)] = v.symbol;
+        g.frames[static_cast<std::size_t>(id)] = v.frame.at(v.position);
+    }
+    for (const GrammarEdge& e : axiom_edges) {
+        EdgeAttributes a;
+        a.highway = e.highway;
+        g.add_edge(e.a, e.b, a);
+    }
+    return g;
+}
+
+bool Grammar::operator==(const Grammar& o) const {
+    return name == o.name && symbol_names == o.symbol_names && rules == o.rules && origin.lat == o.origin.lat &&
+           origin.lon == o.origin.lon && axiom_vertices == o.axiom_vertices && axiom_edges == o.axiom_edges;
+}
+
+namespace {
+
+[[noreturn]] void fail(const std::string& where, const std::string& what) { throw GrammarError(where + ": " + what); }
+
+void check_finite(const Vec2& p, const std::string& where) {
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y())) fail(where, "coordinates must be finite numbers");
+}
+
+void check_frame(const Frame& f, const std::string& where) {
+    if (!std::isfinite(f.scale) || !std::isfinite(f.rotation_deg)) fail(where, "scale and rotation must be finite numbers");
+    if (f.scale <= 0) fail(where + ".scale", "must be > 0");
+}
+
+void check_symbol(const Grammar& g, Symbol s, const std::string& where) {
+    if (s > g.symbol_names.size()) fail(where, "unknown symbol " + std::to_string(s));
+}
+
+void check_edges(const std::vector<GrammarEdge>& edges, std::size_t vertex_count, const std::string& where) {
+    std::set<std::pair<int, int>> seen;
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+        const std::string at = where + "[" + std::to_string(i) + "]";
+        const auto& e = edges[i];
+        if (e.a < 0 || e.b < 0 || static_cast<std::size_t>(e.a) >= vertex_count || static_cast<std::size_t>(e.b) >= vertex_count) {
+            fail(at, "vertex index out of range (there are " + std::to_string(vertex_count) + " vertices)");
+        }
+        if (e.a == e.b) fail(at, "an edge must join two different vertices");
+        if (!seen.emplace(std::min(e.a, e.b), std::max(e.a, e.b)).second) fail(at, "duplicate edge");
+    }
+}
+
+} // namespace
+
+void validate(const Grammar& g) {
+    std::set<Symbol> defined;
+    for (std::size_t r = 0; r < g.rules.size(); ++r) {
+        const Rule& rule = g.rules[r];
+        const std::string where = "rules[" + std::to_string(r) + "]";
+        if (rule.symbol == 0) fail(where + ".symbol", "the left side of a rule must be a nonterminal");
+        check_symbol(g, rule.symbol, where + ".symbol");
+        if (!defined.insert(rule.symbol).second) fail(where + ".symbol", "a second rule for symbol '" + g.symbol_name(rule.symbol) + "'");
+        if (rule.vertices.empty()) fail(where + ".vertices", "a rule needs at least one vertex");
+        for (std::size_t i = 0; i < rule.vertices.size(); ++i) {
+            const RuleVertex& v = rule.vertices[i];
+            const std::string at = where + ".vertices[" + std::to_string(i) + "]";
+            check_finite(v.position, at + ".position");
+            check_symbol(g, v.symbol, at + ".symbol");
+            check_frame(v.transform, at + ".transform");
+            for (std::size_t j = 0; j < v.embedding.size(); ++j) check_finite(v.embedding[j].offset, at + ".embedding[" + std::to_string(j) + "]");
+        }
+        check_edges(rule.edges, rule.vertices.size(), where + ".edges");
+    }
+    if (g.axiom_vertices.empty()) fail("axiom", "missing axiom (a grammar needs at least one axiom vertex)");
+    for (std::size_t i = 0; i < g.axiom_vertices.size(); ++i) {
+        const AxiomVertex& v = g.axiom_vertices[i];
+        const std::string at = "axiom.vertices[" + std::to_string(i) + "]";
+        check_finite(v.position, at + ".position");
+        check_symbol(g, v.symbol, at + ".symbol");
+        check_frame(v.frame, at + ".frame");
+    }
+    check_edges(g.axiom_edges, g.axiom_vertices.size(), "axiom.edges");
+    if (!std::isfinite(g.origin.lat) || !std::isfinite(g.origin.lon) || std::abs(g.origin.lat) > 90 || std::abs(g.origin.lon) > 180) {
+        fail("origin_latlon", "out of range");
+    }
+}
+
+} // namespace ggg

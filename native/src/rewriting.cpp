@@ -1,0 +1,275 @@
+#include "ggg/rewriting.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+
+#include <boost/geometry.hpp>
+#include <boost/geometry/index/rtree.hpp>
+
+#include "ggg/error.hpp"
+
+namespace ggg {
+namespace {
+
+namespace bg = boost::geometry;
+namespace bgi = boost::geometry::index;
+using BoostPoint = bg::model::point<double, 2, bg::cs::cartesian>;
+using BoostBox = bg::model::box<BoostPoint>;
+using Entry = std::pair<BoostPoint, VertexId>;
+
+bool same_frame(const Similarity2& a, const Similarity2& b, double tolerance) {
+    const double scale = std::max(a.scale(), b.scale());
+    return std::abs(a.a - b.a) <= 1e-9 * scale && std::abs(a.b - b.b) <= 1e-9 * scale && (a.t - b.t).norm() <= tolerance;
+}
+
+std::uint64_t edge_key(VertexId u, VertexId v) {
+    const auto lo = static_cast<std::uint32_t>(std::min(u, v));
+    const auto hi = static_cast<std::uint32_t>(std::max(u, v));
+    return (static_cast<std::uint64_t>(lo) << 32) | hi;
+}
+
+// The graph being built by one step: survivors first, then what the rewrites place.
+class StepBuilder {
+public:
+    StepBuilder(const GeometricGraph& old, const std::vector<char>& erased) : old_(old) {
+        next_.origin = old.origin;
+        new_id_.assign(old.vertex_count(), -1);
+        for (std::size_t v = 0; v < old.vertex_count(); ++v) {
+            if (erased[v]) continue;
+            const VertexId id = next_.add_vertex(old.positions[v], old.vertex_osm_ids[v]);
+            next_.symbols.back() = old.symbols[v];
+            next_.frames.back() = old.frames[v];
+            new_id_[v] = id;
+            index(id);
+        }
+        for (std::size_t e = 0; e < old.edge_count(); ++e) {
+            const auto [u, v] = old.edges[e];
+            const VertexId a = new_id_[static_cast<std::size_t>(u)];
+            const VertexId b = new_id_[static_cast<std::size_t>(v)];
+            if (a < 0 || b < 0) continue;
+            const EdgeId id = static_cast<EdgeId>(e);
+            std::vector<Vec2> line(old.geometry_begin(id), old.geometry_begin(id) + old.geometry_size(id));
+            add_edge(a, b, old.edge_attributes(id), line);
+        }
+        survivors_ = static_cast<VertexId>(next_.vertex_count());
+    }
+
+    VertexId survivor_count() const { return survivors_; }
+
+    // The nearest vertex within `tolerance` of p that passes `accept`, or -1.
+    template <typename Accept>
+    VertexId nearest(const Vec2& p, double tolerance, Accept accept) const {
+        const BoostBox box(BoostPoint(p.x() - tolerance, p.y() - tolerance), BoostPoint(p.x() + tolerance, p.y() + tolerance));
+        VertexId best = -1;
+        double best_distance = tolerance;
+        for (auto it = tree_.qbegin(bgi::intersects(box)); it != tree_.qend(); ++it) {
+            const VertexId v = it->second;
+            const double d = (next_.positions[static_cast<std::size_t>(v)] - p).norm();
+            if (d <= best_distance && accept(v) && (best < 0 || d < best_distance || v < best)) {
+                best = v;
+                best_distance = d;
+            }
+        }
+        return best;
+    }
+
+    // Places a vertex, merging it into one within `tolerance` when that is the same place.
+    VertexId place(const Vec2& p, Symbol symbol, const Similarity2& frame, double tolerance, bool& merged) {
+        const VertexId existing = nearest(p, tolerance, [&](VertexId v) {
+            const Symbol s = next_.symbols[static_cast<std::size_t>(v)];
+            if (s == 0 || symbol == 0) return true;
+            return s == symbol && same_frame(next_.frames[static_cast<std::size_t>(v)], frame, tolerance);
+        });
+        if (existing >= 0) {
+            merged = true;
+            if (symbol != 0 && next_.symbols[static_cast<std::size_t>(existing)] == 0) {
+                next_.symbols[static_cast<std::size_t>(existing)] = symbol;
+                next_.frames[static_cast<std::size_t>(existing)] = frame;
+            }
+            return existing;
+        }
+        merged = false;
+        const VertexId id = next_.add_vertex(p);
+        next_.symbols.back() = symbol;
+        next_.frames.back() = frame;
+        index(id);
+        return id;
+    }
+
+    bool add_edge(VertexId a, VertexId b, const EdgeAttributes& attributes, const std::vector<Vec2>& line = {}) {
+        if (a == b || !edge_keys_.insert(edge_key(a, b)).second) return false;
+        next_.add_edge(a, b, attributes, line);
+        return true;
+    }
+
+    GeometricGraph take() { return std::move(next_); }
+    const GeometricGraph& graph() const { return next_; }
+
+private:
+    void index(VertexId id) {
+        const Vec2& p = next_.positions[static_cast<std::size_t>(id)];
+        tree_.insert({BoostPoint(p.x(), p.y()), id});
+    }
+
+    const GeometricGraph& old_;
+    GeometricGraph next_;
+    std::vector<VertexId> new_id_;
+    VertexId survivors_ = 0;
+    bgi::rtree<Entry, bgi::rstar<16>> tree_;
+    std::unordered_set<std::uint64_t> edge_keys_;
+};
+
+double world_tolerance(const DeriveOptions& options, const Similarity2& frame) {
+    return options.tolerance_relative ? options.tolerance * frame.scale() : options.tolerance;
+}
+
+// Strict mode: can every embedding point of this rewrite find a host vertex that the step
+// does not rewrite? `host` indexes exactly those vertices.
+bool embedding_complete(const bgi::rtree<Entry, bgi::rstar<16>>& host, const GeometricGraph& g, const Rule& rule,
+                        const Similarity2& frame, double tolerance) {
+    for (const RuleVertex& rv : rule.vertices) {
+        for (const EmbeddingPoint& ep : rv.embedding) {
+            const Vec2 target = frame.apply(rv.position + ep.offset);
+            const BoostBox box(BoostPoint(target.x() - tolerance, target.y() - tolerance),
+                               BoostPoint(target.x() + tolerance, target.y() + tolerance));
+            bool found = false;
+            for (auto it = host.qbegin(bgi::intersects(box)); it != host.qend() && !found; ++it) {
+                found = (g.positions[static_cast<std::size_t>(it->second)] - target).norm() <= tolerance;
+            }
+            if (!found) return false;
+        }
+    }
+    return true;
+}
+
+} // namespace
+
+VertexId place_nonterminal(GeometricGraph& graph, Symbol symbol, const Vec2& position, const Frame& frame) {
+    if (!std::isfinite(position.x()) || !std::isfinite(position.y()) || !(frame.scale > 0) || !std::isfinite(frame.scale) ||
+        !std::isfinite(frame.rotation_deg)) {
+        throw UsageError("a placed rule needs a finite position, a scale > 0 and a finite rotation");
+    }
+    const VertexId id = graph.add_vertex(position);
+    graph.symbols.back() = symbol;
+    graph.frames.back() = frame.at(position);
+    return id;
+}
+
+bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions& options, StepReport* report_out, bool* over_budget) {
+    StepReport report;
+    if (over_budget) *over_budget = false;
+    const std::size_t n = g.vertex_count();
+    std::vector<char> erased(n, 0);
+    std::vector<VertexId> rewrites;
+    for (std::size_t v = 0; v < n; ++v) {
+        if (g.symbols[v] != 0 && grammar.rule_for(g.symbols[v])) erased[v] = 1;
+    }
+    // Strict mode decides against the host as it is before the step, less what it rewrites.
+    bgi::rtree<Entry, bgi::rstar<16>> host;
+    if (options.strict) {
+        std::vector<Entry> entries;
+        for (std::size_t v = 0; v < n; ++v) {
+            if (!erased[v]) entries.emplace_back(BoostPoint(g.positions[v].x(), g.positions[v].y()), static_cast<VertexId>(v));
+        }
+        host = bgi::rtree<Entry, bgi::rstar<16>>(entries.begin(), entries.end());
+    }
+    std::size_t placed_upper_bound = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+        if (!erased[v]) continue;
+        const Rule& rule = *grammar.rule_for(g.symbols[v]);
+        if (options.strict && !embedding_complete(host, g, rule, g.frames[v], world_tolerance(options, g.frames[v]))) {
+            erased[v] = 0;
+            ++report.refused;
+            continue;
+        }
+        rewrites.push_back(static_cast<VertexId>(v));
+        placed_upper_bound += rule.vertices.size();
+    }
+    if (report_out) *report_out = report;
+    if (rewrites.empty()) return false;
+    if (n - rewrites.size() + placed_upper_bound > options.max_vertices) {
+        if (over_budget) *over_budget = true;
+        return false;
+    }
+
+    StepBuilder builder(g, erased);
+    // Steps 1-3 for every rewrite: S in q's frame, q erased (by the builder), S placed.
+    struct Placed {
+        std::vector<VertexId> ids;
+    };
+    std::vector<Placed> placed(rewrites.size());
+    for (std::size_t r = 0; r < rewrites.size(); ++r) {
+        const auto q = static_cast<std::size_t>(rewrites[r]);
+        const Similarity2& frame = g.frames[q];
+        const Rule& rule = *grammar.rule_for(g.symbols[q]);
+        const double tolerance = world_tolerance(options, frame);
+        for (const RuleVertex& rv : rule.vertices) {
+            const Vec2 p = frame.apply(rv.position);
+            const Similarity2 child = frame * rv.transform.at(rv.position);
+            bool merged = false;
+            placed[r].ids.push_back(builder.place(p, rv.symbol, child, tolerance, merged));
+            report.merged_vertices += merged;
+        }
+        for (const GrammarEdge& e : rule.edges) {
+            EdgeAttributes a;
+            a.highway = e.highway;
+            builder.add_edge(placed[r].ids[static_cast<std::size_t>(e.a)], placed[r].ids[static_cast<std::size_t>(e.b)], a);
+        }
+    }
+    // Step 4: embedding points connect to the nearest vertex within the tolerance that is
+    // not part of the same rewrite.
+    for (std::size_t r = 0; r < rewrites.size(); ++r) {
+        const auto q = static_cast<std::size_t>(rewrites[r]);
+        const Similarity2& frame = g.frames[q];
+        const Rule& rule = *grammar.rule_for(g.symbols[q]);
+        const double tolerance = world_tolerance(options, frame);
+        const auto& own = placed[r].ids;
+        for (std::size_t i = 0; i < rule.vertices.size(); ++i) {
+            for (const EmbeddingPoint& ep : rule.vertices[i].embedding) {
+                const Vec2 target = frame.apply(rule.vertices[i].position + ep.offset);
+                const VertexId partner =
+                    builder.nearest(target, tolerance, [&](VertexId v) { return std::find(own.begin(), own.end(), v) == own.end(); });
+                if (partner < 0) {
+                    ++report.missed_embeddings;
+                    continue;
+                }
+                EdgeAttributes a;
+                a.highway = ep.highway;
+                report.embedding_edges += builder.add_edge(own[i], partner, a);
+            }
+        }
+    }
+    report.rewrites = rewrites.size();
+    g = builder.take();
+    if (report_out) *report_out = report;
+    return true;
+}
+
+DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptions& options, const ProgressCallback& progress) {
+    validate(grammar);
+    if (options.max_steps < 0) throw UsageError("the number of steps must be >= 0");
+    if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance)) throw UsageError("the tolerance must be a finite number >= 0");
+    DeriveReport result;
+    for (int step = 0; step < options.max_steps; ++step) {
+        report(progress, static_cast<double>(step) / options.max_steps, "derivation step " + std::to_string(step + 1));
+        StepReport s;
+        bool over_budget = false;
+        if (!derive_step(g, grammar, options, &s, &over_budget)) {
+            result.stopped_by_budget = over_budget;
+            result.nothing_to_rewrite = !over_budget;
+            result.totals.refused += s.refused;
+            break;
+        }
+        ++result.steps;
+        result.totals.rewrites += s.rewrites;
+        result.totals.refused += s.refused;
+        result.totals.embedding_edges += s.embedding_edges;
+        result.totals.missed_embeddings += s.missed_embeddings;
+        result.totals.merged_vertices += s.merged_vertices;
+    }
+    report(progress, 1.0, "done");
+    return result;
+}
+
+} // namespace ggg

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs the demo on the bundled sample city:
+# the OSM file is imported into a headless Blender scene and a picture of it is rendered.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${GGG_BUILD_DIR:-$root/build}
+out=${1:-$root/out/demo}
+bash "$root/scripts/setup.sh"
+bash "$root/scripts/build.sh"
+mkdir -p "$out"
+"$build/bin/ggg" info "$root/samples/sample_city.osm" --highways all | tee "$out/sample_city_info.json"
+"$build/bin/ggg" export "$root/samples/sample_city.osm" --highways all -o "$out/sample_city.geojson"
+GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
+  --python "$root/scripts/blender_demo.py" -- "$root/samples/sample_city.osm" "$out/sample_city.png"
+echo "demo written to $out (sample_city.png, sample_city.geojson, sample_city_info.json)"

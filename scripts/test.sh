@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs every test: GoogleTest through ctest, then
+# pytest inside headless Blender. Tests that need the real OSM extracts read ../shared/osm.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${GGG_BUILD_DIR:-$root/build}
+bash "$root/scripts/setup.sh"
+bash "$root/scripts/build.sh"
+if [ ! -d "$root/../shared/osm" ]; then
+  echo "note: ../shared/osm is absent: the tests on real OpenStreetMap extracts will be skipped" >&2
+fi
+(cd "$build" && ctest --output-on-failure --parallel "$(nproc)")
+GGG_MODULE_DIR="$build/python" bash "$root/scripts/run_blender_tests.sh"
