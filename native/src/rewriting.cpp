@@ -255,6 +255,10 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
         report(progress, static_cast<double>(step) / options.max_steps, "derivation step " + std::to_string(step + 1));
         StepReport s;
         bool over_budget = false;
+        const std::size_t vertices_before = g.vertex_count();
+        const std::size_t edges_before = g.edge_count();
+        const std::vector<Vec2> positions_before = g.positions;
+        const std::vector<Symbol> symbols_before = g.symbols;
         if (!derive_step(g, grammar, options, &s, &over_budget)) {
             result.stopped_by_budget = over_budget;
             result.nothing_to_rewrite = !over_budget;
@@ -267,6 +271,11 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
         result.totals.embedding_edges += s.embedding_edges;
         result.totals.missed_embeddings += s.missed_embeddings;
         result.totals.merged_vertices += s.merged_vertices;
+        if (g.vertex_count() == vertices_before && g.edge_count() == edges_before && g.positions == positions_before &&
+            g.symbols == symbols_before) {
+            result.converged = true;
+            break;
+        }
     }
     report(progress, 1.0, "done");
     return result;

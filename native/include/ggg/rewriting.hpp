@@ -43,6 +43,7 @@ struct DeriveReport {
     int steps = 0;                  // steps applied
     bool stopped_by_budget = false; // a step was not applied because it would pass max_vertices
     bool nothing_to_rewrite = false;
+    bool converged = false;         // a step changed nothing (e.g. P -> P), so no later one would
     StepReport totals;
 };
 
