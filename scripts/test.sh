@@ -10,4 +10,4 @@ if [ ! -d "$root/../shared/osm" ]; then
   echo "note: ../shared/osm is absent: the tests on real OpenStreetMap extracts will be skipped" >&2
 fi
 (cd "$build" && ctest --output-on-failure --parallel "$(nproc)")
-GGG_MODULE_DIR="$build/python" bash "$root/scripts/run_blender_tests.sh"
+bash "$root/scripts/run_blender_tests.sh" --zip "$root/dist/road_grammar.zip"

@@ -1,0 +1,48 @@
+"""Road Grammar: import OpenStreetMap road networks as graphs and road surfaces.
+
+The add-on calls the native library only through its Python module ``ggg`` (see
+native.py for where it is looked for). Registering never needs the module, so the
+add-on enables even when the module is missing or built for another Python; the
+import operator and the sidebar panel then say what to do.
+"""
+
+bl_info = {
+    "name": "Road Grammar",
+    "author": "Road Grammar contributors",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "File > Import > OpenStreetMap Roads; 3D View > Sidebar > Roads",
+    "description": "Import OpenStreetMap roads as a road graph mesh with flat road surfaces",
+    "category": "Import-Export",
+}
+
+if "bpy" in locals():
+    import importlib
+
+    for _module in (native, georef, mesh_build, surface, importer, preferences, operators, panels):  # noqa: F821
+        importlib.reload(_module)
+    del _module
+else:
+    from . import native, georef, mesh_build, surface, importer, preferences, operators, panels
+
+import bpy
+
+classes = (
+    preferences.ROADS_PG_class_width,
+    preferences.ROADS_AP_preferences,
+    preferences.ROADS_OT_reset_widths,
+    operators.ROADS_OT_import_osm,
+    panels.VIEW3D_PT_roads,
+)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.TOPBAR_MT_file_import.append(operators.menu_import)
+
+
+def unregister():
+    bpy.types.TOPBAR_MT_file_import.remove(operators.menu_import)
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

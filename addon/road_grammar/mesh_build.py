@@ -1,0 +1,108 @@
+"""numpy arrays -> Blender meshes, in bulk (foreach_set), never per vertex in Python."""
+
+import bpy
+import numpy as np
+
+# numpy dtype and foreach_set key of each attribute type the add-on writes.
+_ATTRIBUTE_KINDS = {
+    'FLOAT': (np.float32, "value"),
+    'INT': (np.int32, "value"),
+    'BOOLEAN': (np.bool_, "value"),
+}
+
+
+def _xyz(points_xy):
+    """(N, 2) metres -> flat (3N,) float32 with z = 0."""
+    points_xy = np.asarray(points_xy, dtype=np.float64).reshape(-1, 2)
+    xyz = np.zeros((len(points_xy), 3), dtype=np.float32)
+    xyz[:, :2] = points_xy
+    return xyz.ravel()
+
+
+def new_edge_mesh(name, points_xy, edges, edge_attributes=None):
+    """A mesh of loose edges: vertices at ``points_xy`` (z = 0), ``edges`` (M, 2) vertex
+    indices, and ``edge_attributes`` {name: (type, values)} on the EDGE domain."""
+    edges = np.asarray(edges, dtype=np.int32).reshape(-1, 2)
+    points = _xyz(points_xy)
+    mesh = bpy.data.meshes.new(name)
+    try:
+        mesh.vertices.add(len(points) // 3)
+        mesh.vertices.foreach_set("co", points)
+        mesh.edges.add(len(edges))
+        mesh.edges.foreach_set("vertices", edges.ravel())
+        for attribute_name, (kind, values) in (edge_attributes or {}).items():
+            set_attribute(mesh, attribute_name, kind, 'EDGE', values)
+        mesh.update()
+    except Exception:
+        bpy.data.meshes.remove(mesh)
+        raise
+    return mesh
+
+
+def set_attribute(mesh, name, kind, domain, values):
+    """Create (or replace) a generic attribute and fill it from ``values``."""
+    dtype, key = _ATTRIBUTE_KINDS[kind]
+    existing = mesh.attributes.get(name)
+    if existing is not None:
+        mesh.attributes.remove(existing)
+    attribute = mesh.attributes.new(name, kind, domain)
+    values = np.ascontiguousarray(values, dtype=dtype).ravel()
+    if len(values) != len(attribute.data):
+        raise ValueError(
+            "attribute {!r}: {} values for {} {} elements".format(name, len(values), len(attribute.data), domain)
+        )
+    attribute.data.foreach_set(key, values)
+    return attribute
+
+
+def read_attribute(mesh, name, dtype=np.float64):
+    """The values of a FLOAT or INT attribute as a numpy array."""
+    attribute = mesh.attributes[name]
+    values = np.empty(len(attribute.data), dtype=dtype)
+    attribute.data.foreach_get("value", values)
+    return values
+
+
+def polyline_segments(offsets, points, positions, edges):
+    """Segments of the edge polylines.
+
+    ``offsets`` (M+1,) and ``points`` (P, 2) are ``Graph.edge_geometry()``. A polyline with
+    fewer than two points stands for the straight segment between the edge's vertices
+    (``positions``, ``edges``); those end points are appended to the point array.
+    Returns (points (P', 2), segments (S, 2) int32, owner (S,) int64: the edge of each segment).
+    """
+    offsets = np.asarray(offsets, dtype=np.int64)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    counts = np.diff(offsets)
+    short = np.flatnonzero(counts < 2)
+    if len(short):
+        # Rebuild with the short polylines replaced by their two end vertices.
+        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+        positions = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+        new_counts = counts.copy()
+        new_counts[short] = 2
+        new_offsets = np.zeros(len(counts) + 1, dtype=np.int64)
+        np.cumsum(new_counts, out=new_offsets[1:])
+        new_points = np.empty((new_offsets[-1], 2), dtype=np.float64)
+        keep = counts >= 2
+        src = np.repeat(offsets[:-1][keep], counts[keep]) + _ramp(counts[keep])
+        dst = np.repeat(new_offsets[:-1][keep], counts[keep]) + _ramp(counts[keep])
+        new_points[dst] = points[src]
+        new_points[new_offsets[short]] = positions[edges[short, 0]]
+        new_points[new_offsets[short] + 1] = positions[edges[short, 1]]
+        offsets, points, counts = new_offsets, new_points, new_counts
+    segment_counts = counts - 1
+    owner = np.repeat(np.arange(len(counts), dtype=np.int64), segment_counts)
+    start = np.repeat(offsets[:-1], segment_counts) + _ramp(segment_counts)
+    segments = np.stack((start, start + 1), axis=1).astype(np.int32)
+    return points, segments, owner
+
+
+def _ramp(counts):
+    """0..c-1 for each count c, concatenated (np.concatenate([np.arange(c) for c in counts]))."""
+    counts = np.asarray(counts, dtype=np.int64)
+    total = int(counts.sum())
+    if total == 0:
+        return np.zeros(0, dtype=np.int64)
+    starts = np.cumsum(counts) - counts
+    return np.arange(total, dtype=np.int64) - np.repeat(starts, counts)

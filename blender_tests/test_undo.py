@@ -1,0 +1,48 @@
+"""Undo of an import, in a real Blender window.
+
+`blender -b` keeps no undo stack (bpy.ops.ed.undo's poll fails: "Undo disabled at
+startup"), so this test starts a second Blender with a window under Xvfb
+(undo_session.py) and reads back what it saw. It is skipped, saying why, where
+xvfb-run is not installed; test_import.py checks the operator's UNDO flag and
+test_bad_input.py that failed imports leave the file unchanged either way.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import bpy
+import pytest
+
+import road_grammar
+
+HERE = Path(__file__).resolve().parent
+
+
+def test_undo_restores_the_scene(paris, ggg, tmp_path):
+    xvfb_run = shutil.which("xvfb-run")
+    if xvfb_run is None:
+        pytest.skip("xvfb-run is not installed (apt-get install xvfb xauth): undo needs a Blender "
+                    "window, and `blender -b` has no undo stack")
+    output = tmp_path / "undo.json"
+    env = dict(os.environ)
+    env["GGG_MODULE_DIR"] = str(Path(ggg.__file__).parent)
+    command = [xvfb_run, "-a", bpy.app.binary_path, "--factory-startup", "--python-exit-code", "1",
+               "--python", str(HERE / "undo_session.py"), "--",
+               str(Path(road_grammar.__file__).parent.parent), str(paris), str(output)]
+    completed = subprocess.run(command, env=env, stdin=subprocess.DEVNULL, capture_output=True,
+                               text=True, timeout=300)
+    assert output.is_file(), "the windowed Blender wrote nothing:\n" + completed.stdout[-3000:] + \
+        completed.stderr[-3000:]
+    result = json.loads(output.read_text())
+    assert "error" not in result, result.get("error")
+    assert result["import"] == ['FINISHED']
+    before, imported = result["before"], result["imported"]
+    assert len(imported["objects"]) == len(before["objects"]) + 2
+    assert "SRID" in imported["scene keys"] and "SRID" not in before["scene keys"]
+    assert result["undo"] == ['FINISHED']
+    assert result["undone"] == before
+    assert result["redo"] == ['FINISHED']
+    assert result["redone"] == imported
