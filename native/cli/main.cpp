@@ -12,7 +12,9 @@
 
 #include "ggg/error.hpp"
 #include "ggg/graph_info.hpp"
+#include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
+#include "ggg/rewriting.hpp"
 
 namespace {
 
@@ -51,6 +53,21 @@ ggg::ProgressCallback terminal_progress() {
     };
 }
 
+// Appends `extra` (e.g. an axiom) to `base`; positions are taken as they are, in base's frame.
+void append_graph(ggg::GeometricGraph& base, const ggg::GeometricGraph& extra) {
+    const auto offset = static_cast<ggg::VertexId>(base.vertex_count());
+    for (std::size_t v = 0; v < extra.vertex_count(); ++v) {
+        base.add_vertex(extra.positions[v], extra.vertex_osm_ids[v]);
+        base.symbols.back() = extra.symbols[v];
+        base.frames.back() = extra.frames[v];
+    }
+    for (std::size_t e = 0; e < extra.edge_count(); ++e) {
+        const auto id = static_cast<ggg::EdgeId>(e);
+        std::vector<ggg::Vec2> line(extra.geometry_begin(id), extra.geometry_begin(id) + extra.geometry_size(id));
+        base.add_edge(extra.edges[e][0] + offset, extra.edges[e][1] + offset, extra.edge_attributes(id), line);
+    }
+}
+
 double peak_memory_mb() {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
@@ -78,6 +95,28 @@ int main(int argc, char** argv) {
     exp->add_option("-o,--output", output, "Output file: .geojson or .ggraph")->required();
     import_flags.add_to(*exp);
 
+    std::string grammar_path;
+    ggg::DeriveOptions derive_options;
+    double tolerance_m = -1;
+    std::string base_path;
+    auto* derive = app.add_subcommand("derive", "Derive a graph from a grammar's axiom (or grow a base graph) by parallel rewriting");
+    derive->add_option("GRAMMAR", grammar_path, "Grammar file (.json)")->required();
+    derive->add_option("--steps", derive_options.max_steps, "Derivation steps")->check(CLI::NonNegativeNumber)->capture_default_str();
+    derive->add_option("--max-vertices", derive_options.max_vertices, "Vertex budget: a step that would pass it is not applied")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    auto* relative = derive->add_option("--tolerance", derive_options.tolerance,
+                                        "Embedding and merge tolerance as a fraction of the rewritten vertex's scale")
+                         ->check(CLI::NonNegativeNumber)
+                         ->capture_default_str();
+    derive->add_option("--tolerance-m", tolerance_m, "Embedding and merge tolerance in metres (instead of --tolerance)")
+        ->check(CLI::NonNegativeNumber)
+        ->excludes(relative);
+    derive->add_flag("--strict", derive_options.strict, "Apply a rule only where every embedding point finds a partner");
+    derive->add_option("--base", base_path, "Grow this graph (OSM, GeoJSON or .ggraph) with the axiom's vertices added to it");
+    derive->add_option("-o,--output", output, "Output file: .geojson or .ggraph (keeps symbols and frames)")->required();
+    import_flags.add_to(*derive);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -90,6 +129,44 @@ int main(int argc, char** argv) {
     }
 
     try {
+        if (!output.empty() && ggg::graph_file_type(output) != ggg::GraphFileType::geojson &&
+            ggg::graph_file_type(output) != ggg::GraphFileType::graph_file) {
+            throw ggg::UsageError(output + ": unknown output type (use .geojson or .ggraph)");
+        }
+        if (*derive) {
+            const ggg::Grammar grammar = ggg::read_grammar(grammar_path);
+            if (tolerance_m >= 0) {
+                derive_options.tolerance = tolerance_m;
+                derive_options.tolerance_relative = false;
+            }
+            ggg::GeometricGraph graph = grammar.axiom_graph();
+            if (!base_path.empty()) {
+                ggg::GeometricGraph base = ggg::read_graph(base_path, import_flags.options());
+                append_graph(base, graph);
+                graph = std::move(base);
+            }
+            const auto start = std::chrono::steady_clock::now();
+            const ggg::DeriveReport report = ggg::derive(graph, grammar, derive_options, terminal_progress());
+            const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - start;
+            ggg::write_graph(graph, output);
+            std::cout << nlohmann::json{{"vertices", graph.vertex_count()},
+                                        {"edges", graph.edge_count()},
+                                        {"steps", report.steps},
+                                        {"stopped_by_budget", report.stopped_by_budget},
+                                        {"converged", report.converged},
+                                        {"rewrites", report.totals.rewrites},
+                                        {"embedding_edges", report.totals.embedding_edges},
+                                        {"missed_embeddings", report.totals.missed_embeddings},
+                                        {"refused", report.totals.refused},
+                                        {"seconds", seconds.count()}}
+                             .dump()
+                      << std::endl;
+            if (report.stopped_by_budget) {
+                std::cerr << "note: stopped after " << report.steps << " steps: the next step would pass --max-vertices "
+                          << derive_options.max_vertices << "\n";
+            }
+            return 0;
+        }
         const ggg::ImportOptions options = import_flags.options();
         const auto start = std::chrono::steady_clock::now();
         ggg::GeometricGraph graph = ggg::read_graph(input, options, nullptr, terminal_progress());

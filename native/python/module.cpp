@@ -10,7 +10,12 @@
 
 #include "ggg/error.hpp"
 #include "ggg/graph_info.hpp"
+#include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
+#include "ggg/projection.hpp"
+#include "ggg/rewriting.hpp"
+
+#include <nlohmann/json.hpp>
 
 namespace py = pybind11;
 
@@ -75,8 +80,10 @@ private:
 };
 
 ggg::GeometricGraph read_graph(const std::string& path, const std::string& highways, bool keep_shape_nodes,
-                               double consolidate_m, std::optional<py::function> progress) {
+                               double consolidate_m, std::optional<std::pair<double, double>> origin_latlon,
+                               std::optional<py::function> progress) {
     ggg::ImportOptions options;
+    if (origin_latlon) options.origin = ggg::GeoOrigin{origin_latlon->first, origin_latlon->second};
     options.highways = ggg::HighwayFilter::parse(highways);
     options.topology.keep_shape_nodes = keep_shape_nodes;
     options.topology.consolidate_m = consolidate_m;
@@ -92,30 +99,107 @@ ggg::GeometricGraph read_graph(const std::string& path, const std::string& highw
     return std::move(*graph);
 }
 
-ggg::GeometricGraph graph_from_arrays(const py::array_t<double, py::array::c_style | py::array::forcecast>& positions,
-                                      const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& edges,
-                                      std::pair<double, double> origin_latlon) {
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IntArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+ggg::GeometricGraph graph_from_arrays(const DoubleArray& positions, const IntArray& edges, std::pair<double, double> origin_latlon,
+                                      std::optional<IntArray> symbols, std::optional<DoubleArray> frames,
+                                      std::optional<IntArray> highway) {
     if (positions.ndim() != 2 || positions.shape(1) != 2) throw ggg::UsageError("positions must have shape (N, 2)");
     if (edges.ndim() != 2 || edges.shape(1) != 2) throw ggg::UsageError("edges must have shape (M, 2)");
+    const py::ssize_t n = positions.shape(0);
+    const py::ssize_t m = edges.shape(0);
+    if (symbols && (symbols->ndim() != 1 || symbols->shape(0) != n)) throw ggg::UsageError("vertex_symbols must have shape (N,)");
+    if (frames && (frames->ndim() != 2 || frames->shape(0) != n || frames->shape(1) != 4)) throw ggg::UsageError("vertex_frames must have shape (N, 4)");
+    if (highway && (highway->ndim() != 1 || highway->shape(0) != m)) throw ggg::UsageError("edge_highway must have shape (M,)");
     ggg::GeometricGraph g;
     g.origin = {origin_latlon.first, origin_latlon.second};
     const auto p = positions.unchecked<2>();
-    for (py::ssize_t i = 0; i < p.shape(0); ++i) {
-        if (!std::isfinite(p(i, 0)) || !std::isfinite(p(i, 1))) {
-            throw ggg::InputError("positions[" + std::to_string(i) + "] is not finite");
-        }
+    for (py::ssize_t i = 0; i < n; ++i) {
+        if (!std::isfinite(p(i, 0)) || !std::isfinite(p(i, 1))) throw ggg::InputError("positions[" + std::to_string(i) + "] is not finite");
         g.add_vertex({p(i, 0), p(i, 1)});
+        if (symbols) {
+            const auto s = symbols->at(i);
+            if (s < 0) throw ggg::InputError("vertex_symbols[" + std::to_string(i) + "] is negative");
+            g.symbols.back() = static_cast<ggg::Symbol>(s);
+        }
+        if (frames) {
+            const auto f = frames->unchecked<2>();
+            ggg::Similarity2 frame{f(i, 0), f(i, 1), {f(i, 2), f(i, 3)}};
+            if (!std::isfinite(frame.a) || !std::isfinite(frame.b) || !frame.t.allFinite() || frame.scale() <= 0) {
+                throw ggg::InputError("vertex_frames[" + std::to_string(i) + "] is not a valid frame");
+            }
+            g.frames.back() = frame;
+        }
     }
     const auto e = edges.unchecked<2>();
-    const auto n = static_cast<std::int64_t>(g.vertex_count());
-    for (py::ssize_t i = 0; i < e.shape(0); ++i) {
+    for (py::ssize_t i = 0; i < m; ++i) {
         const auto u = e(i, 0), v = e(i, 1);
-        if (u < 0 || v < 0 || u >= n || v >= n) {
-            throw ggg::InputError("edges[" + std::to_string(i) + "] refers to a vertex out of range");
+        if (u < 0 || v < 0 || u >= n || v >= n) throw ggg::InputError("edges[" + std::to_string(i) + "] refers to a vertex out of range");
+        ggg::EdgeAttributes a{ggg::HighwayClass::road};
+        if (highway) {
+            const auto c = highway->at(i);
+            if (c < 0 || c >= ggg::highway_class_count) throw ggg::InputError("edge_highway[" + std::to_string(i) + "] is not a class code");
+            a.highway = static_cast<ggg::HighwayClass>(c);
         }
-        g.add_edge(static_cast<ggg::VertexId>(u), static_cast<ggg::VertexId>(v), ggg::EdgeAttributes{ggg::HighwayClass::road});
+        g.add_edge(static_cast<ggg::VertexId>(u), static_cast<ggg::VertexId>(v), a);
     }
     return g;
+}
+
+py::object json_to_python(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+py::list rule_summaries(const ggg::Grammar& g) {
+    py::list out;
+    for (const ggg::Rule& r : g.rules) {
+        py::dict d;
+        d["symbol"] = r.symbol;
+        d["name"] = g.symbol_name(r.symbol);
+        d["vertices"] = r.vertices.size();
+        d["edges"] = r.edges.size();
+        d["uses"] = r.uses;
+        std::size_t nonterminals = 0, embedding = 0;
+        for (const auto& v : r.vertices) {
+            nonterminals += v.symbol != 0;
+            embedding += v.embedding.size();
+        }
+        d["nonterminals"] = nonterminals;
+        d["embedding_points"] = embedding;
+        out.append(d);
+    }
+    return out;
+}
+
+py::tuple derive(const ggg::Grammar& grammar, std::optional<ggg::GeometricGraph> start, int steps, std::size_t max_vertices,
+                 double tolerance, std::optional<double> tolerance_m, bool strict, std::optional<py::function> progress) {
+    ggg::DeriveOptions options;
+    options.max_steps = steps;
+    options.max_vertices = max_vertices;
+    options.tolerance = tolerance_m ? *tolerance_m : tolerance;
+    options.tolerance_relative = !tolerance_m;
+    options.strict = strict;
+    ggg::GeometricGraph graph = start ? std::move(*start) : grammar.axiom_graph();
+    PythonProgress reporter(std::move(progress));
+    ggg::DeriveReport report;
+    try {
+        py::gil_scoped_release release;
+        report = ggg::derive(graph, grammar, options, reporter.callback());
+    } catch (const ggg::Cancelled&) {
+        reporter.rethrow();
+        throw;
+    }
+    py::dict r;
+    r["vertices"] = graph.vertex_count();
+    r["edges"] = graph.edge_count();
+    r["steps"] = report.steps;
+    r["stopped_by_budget"] = report.stopped_by_budget;
+    r["converged"] = report.converged;
+    r["rewrites"] = report.totals.rewrites;
+    r["refused"] = report.totals.refused;
+    r["embedding_edges"] = report.totals.embedding_edges;
+    r["missed_embeddings"] = report.totals.missed_embeddings;
+    r["merged_vertices"] = report.totals.merged_vertices;
+    return py::make_tuple(std::move(graph), r);
 }
 
 } // namespace
@@ -150,6 +234,11 @@ PYBIND11_MODULE(ggg, m) {
         for (int c = 0; c < ggg::highway_class_count; ++c) names.emplace_back(ggg::highway_name(static_cast<ggg::HighwayClass>(c)));
         return names;
     }, "Highway class names; the index is the class code used in edge_highway.");
+    m.def("highway_ranks", [] {
+        std::vector<int> ranks;
+        for (int c = 0; c < ggg::highway_class_count; ++c) ranks.push_back(ggg::highway_rank(static_cast<ggg::HighwayClass>(c)));
+        return ranks;
+    }, "Importance rank per class code (1 = most important).");
     m.def("default_widths", [] {
         py::dict widths;
         for (int c = 0; c < ggg::highway_class_count; ++c) {
@@ -161,8 +250,23 @@ PYBIND11_MODULE(ggg, m) {
 
     py::class_<ggg::GeometricGraph>(m, "Graph", "A road graph: vertices in metres of a local frame, edges with road attributes")
         .def_static("from_arrays", &graph_from_arrays, py::arg("positions"), py::arg("edges"),
-                    py::arg("origin_latlon") = std::pair<double, double>{0.0, 0.0},
-                    "A graph from (N,2) positions in metres and (M,2) vertex index pairs (class 'road').")
+                    py::arg("origin_latlon") = std::pair<double, double>{0.0, 0.0}, py::arg("vertex_symbols") = py::none(),
+                    py::arg("vertex_frames") = py::none(), py::arg("edge_highway") = py::none(),
+                    "A graph from (N,2) positions in metres and (M,2) vertex index pairs; optionally per-vertex\n"
+                    "symbols (N,), frames (N,4: a, b, tx, ty) and per-edge highway class codes (M,), else 'road'.")
+        .def_property_readonly("vertex_symbols", [](const ggg::GeometricGraph& g) { return column(g.symbols); })
+        .def_property_readonly("vertex_frames", [](const ggg::GeometricGraph& g) {
+            py::array_t<double> out({static_cast<py::ssize_t>(g.vertex_count()), py::ssize_t{4}});
+            auto view = out.mutable_unchecked<2>();
+            for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+                const auto i = static_cast<py::ssize_t>(v);
+                view(i, 0) = g.frames[v].a;
+                view(i, 1) = g.frames[v].b;
+                view(i, 2) = g.frames[v].t.x();
+                view(i, 3) = g.frames[v].t.y();
+            }
+            return out;
+        }, "(N,4) frames a, b, tx, ty: x -> [[a,-b],[b,a]] x + t, with scale hypot(a,b) and angle atan2(b,a)")
         .def_property_readonly("vertex_count", &ggg::GeometricGraph::vertex_count)
         .def_property_readonly("edge_count", &ggg::GeometricGraph::edge_count)
         .def_property_readonly("positions", [](const ggg::GeometricGraph& g) { return points(g.positions); })
@@ -193,6 +297,8 @@ PYBIND11_MODULE(ggg, m) {
              "(offsets (M+1,) int64, points (P,2) float64): edge i runs through points[offsets[i]:offsets[i+1]]")
         .def_property_readonly("origin_latlon", [](const ggg::GeometricGraph& g) { return py::make_tuple(g.origin.lat, g.origin.lon); })
         .def_property_readonly("total_length_m", &ggg::GeometricGraph::total_length)
+        .def_property_readonly("crs", [](const ggg::GeometricGraph& g) { return ggg::local_crs(g.origin); },
+                               "PROJ string of the local frame (transverse Mercator on origin_latlon)")
         .def("info", [](const ggg::GeometricGraph& g) {
             return py::module_::import("json").attr("loads")(ggg::graph_info(g).dump());
         }, "The summary `ggg info` prints, as a dict.")
@@ -204,8 +310,42 @@ PYBIND11_MODULE(ggg, m) {
             return "<ggg.Graph " + std::to_string(g.vertex_count()) + " vertices, " + std::to_string(g.edge_count()) + " edges>";
         });
 
+    py::class_<ggg::Grammar>(m, "Grammar", "A geometric graph grammar: rules and an axiom")
+        .def_property_readonly("name", [](const ggg::Grammar& g) { return g.name; })
+        .def_property_readonly("symbols", [](const ggg::Grammar& g) { return g.symbol_names; },
+                               "Nonterminal names; symbol k is symbols[k-1] (0 is the terminal)")
+        .def_property_readonly("rules", &rule_summaries, "One dict per rule: symbol, name, vertices, edges, nonterminals, embedding_points, uses")
+        .def_property_readonly("origin_latlon", [](const ggg::Grammar& g) { return py::make_tuple(g.origin.lat, g.origin.lon); })
+        .def("axiom_graph", &ggg::Grammar::axiom_graph, "The axiom as a Graph (nonterminal vertices carry their frames)")
+        .def("rule_graph", [](const ggg::Grammar& g, ggg::Symbol symbol) {
+            const ggg::Rule* rule = g.rule_for(symbol);
+            if (!rule) throw ggg::UsageError("no rule for symbol " + std::to_string(symbol));
+            ggg::GeometricGraph out;
+            for (const auto& v : rule->vertices) {
+                out.add_vertex(v.position);
+                out.symbols.back() = v.symbol;
+                out.frames.back() = v.transform.at(v.position);
+            }
+            for (const auto& e : rule->edges) out.add_edge(e.a, e.b, ggg::EdgeAttributes{e.highway});
+            return out;
+        }, py::arg("symbol"), "The right side S of the rule for `symbol`, in the rule's frame (unit scale, no rotation)")
+        .def("to_json", [](const ggg::Grammar& g) { return ggg::grammar_to_json(g).dump(1); })
+        .def("write", [](const ggg::Grammar& g, const std::string& path) { ggg::write_grammar(g, path); }, py::arg("path"))
+        .def("__repr__", [](const ggg::Grammar& g) {
+            return "<ggg.Grammar '" + g.name + "' " + std::to_string(g.rules.size()) + " rules>";
+        });
+    m.def("read_grammar", &ggg::read_grammar, py::arg("path"), "Read a grammar file (raises ggg.GrammarError naming the place of a problem)");
+    m.def("parse_grammar", &ggg::parse_grammar, py::arg("text"), py::arg("name") = "grammar", "A grammar from JSON text");
+    m.def("derive", &derive, py::arg("grammar"), py::arg("graph") = py::none(), py::arg("steps") = 1,
+          py::arg("max_vertices") = 1'000'000, py::arg("tolerance") = 0.05, py::arg("tolerance_m") = py::none(),
+          py::arg("strict") = false, py::arg("progress") = py::none(),
+          "Derive up to `steps` parallel rewriting steps from `graph` (default: the grammar's axiom).\n"
+          "Returns (Graph, report dict with vertices, edges, steps, stopped_by_budget, converged, ...).\n"
+          "`tolerance` is relative to the rewritten vertex's scale; `tolerance_m` (metres) replaces it.");
+
     m.def("read_graph", &read_graph, py::arg("path"), py::arg("highways") = "drivable", py::arg("keep_shape_nodes") = false,
-          py::arg("consolidate_m") = 0.0, py::arg("progress") = py::none(),
+          py::arg("consolidate_m") = 0.0, py::arg("origin_latlon") = py::none(), py::arg("progress") = py::none(),
           "Read a road graph from an OSM file (.osm, .osm.pbf, .osm.bz2, .osm.gz), GeoJSON or .ggraph.\n"
+          "origin_latlon=(lat, lon) puts it in the local frame of that origin (default: centred on the data).\n"
           "progress(fraction, message) may return False to cancel (raises ggg.Cancelled).");
 }

@@ -134,7 +134,7 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
         std::string message = path + ": no roads: the file has no highway ways";
         if (stats.highway_ways > 0) {
             message += " of the classes '" + options.highways.description() + "' (it has " +
-                       std::to_string(stats.highway_ways) + " highway ways of other classes; try --highways all)";
+                       std::to_string(stats.highway_ways) + " highway ways of other classes; import all classes to include them)";
         }
         throw InputError(message);
     }
@@ -218,7 +218,7 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
     }
 
     report(progress, 0.5, "projecting");
-    const GeoOrigin origin{(min_lat + max_lat) / 2, (min_lon + max_lon) / 2};
+    const GeoOrigin origin = options.origin.value_or(GeoOrigin{(min_lat + max_lat) / 2, (min_lon + max_lon) / 2});
     LocalProjection projection(origin);
     projection.forward(std::span<Vec2>(lonlat));
     input.node_positions = std::move(lonlat);

@@ -19,11 +19,31 @@ struct LocalProjection::Impl {
     }
 };
 
-std::string LocalProjection::proj_string() const {
+std::string local_crs(GeoOrigin origin) {
     char buffer[160];
     std::snprintf(buffer, sizeof buffer, "+proj=tmerc +lat_0=%.9f +lon_0=%.9f +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m",
-                  origin_.lat, origin_.lon);
+                  origin.lat, origin.lon);
     return buffer;
+}
+
+std::string LocalProjection::proj_string() const { return local_crs(origin_); }
+
+void reproject(GeometricGraph& g, GeoOrigin origin) {
+    if (g.origin.lat == origin.lat && g.origin.lon == origin.lon) return;
+    const LocalProjection from(g.origin);
+    const LocalProjection to(origin);
+    auto move = [&](std::span<Vec2> points) {
+        from.inverse(points);
+        to.forward(points);
+    };
+    move(std::span<Vec2>(g.positions));
+    move(std::span<Vec2>(g.geometry));
+    std::vector<Vec2> frame_origins;
+    frame_origins.reserve(g.frames.size());
+    for (const auto& f : g.frames) frame_origins.push_back(f.t);
+    move(std::span<Vec2>(frame_origins));
+    for (std::size_t v = 0; v < g.frames.size(); ++v) g.frames[v].t = frame_origins[v];
+    g.origin = origin;
 }
 
 LocalProjection::LocalProjection(GeoOrigin origin) : origin_(origin), impl_(std::make_unique<Impl>()) {

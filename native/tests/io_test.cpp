@@ -166,3 +166,23 @@ TEST(WriteGraph, BadDestinationsAreErrors) {
     EXPECT_THROW(write_graph(g, "/nonexistent-dir/x.geojson"), InputError);
     EXPECT_THROW(write_graph(g, temp_path(".shp")), UsageError);
 }
+
+TEST(ReadGraph, IntoTheFrameOfAnotherOrigin) {
+    GGG_REQUIRE_CORPUS();
+    const std::string path = ggg::test::shared_osm_dir() + "/paris_marais.osm.pbf";
+    const GeometricGraph own = read_graph(path);
+    ImportOptions options;
+    options.origin = GeoOrigin{48.85, 2.35};
+    const GeometricGraph moved = read_graph(path, options);
+    EXPECT_EQ(moved.origin.lat, 48.85);
+    ASSERT_EQ(moved.vertex_count(), own.vertex_count());
+    // Same graph, other frame: lengths agree (both frames are conformal near the city), the
+    // positions differ by the offset between the origins (about 1.6 km here).
+    EXPECT_NEAR(moved.total_length(), own.total_length(), 1e-5 * own.total_length());
+    EXPECT_GT((moved.positions[0] - own.positions[0]).norm(), 1000.0);
+    // Reading and then moving a .ggraph lands on the same positions as importing there.
+    const std::string saved = temp_path(".ggraph");
+    write_graph(own, saved);
+    const GeometricGraph moved_file = read_graph(saved, options);
+    for (std::size_t v = 0; v < own.vertex_count(); ++v) EXPECT_LT((moved_file.positions[v] - moved.positions[v]).norm(), 1e-6);
+}

@@ -3,6 +3,7 @@
 // Files need not be sorted, and ways may reference nodes the extract does not hold
 // (clipped extracts): such a way is split at the missing nodes, not rejected.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "ggg/geometric_graph.hpp"
@@ -15,6 +16,9 @@ namespace ggg {
 struct ImportOptions {
     HighwayFilter highways = HighwayFilter::drivable();
     TopologyOptions topology;
+    // Project into the frame of this origin instead of one centred on the data (to line up
+    // with a graph already in a scene).
+    std::optional<GeoOrigin> origin;
 };
 
 // Counts of what was read, checked by tests against an independent count of the raw file.

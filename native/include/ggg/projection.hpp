@@ -35,6 +35,13 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// The PROJ string of the local frame centred on `origin`.
+std::string local_crs(GeoOrigin origin);
+
+// Moves a graph into the local frame of another origin (positions, polylines and frame
+// origins), e.g. to put a second city into the frame of a scene that holds the first.
+void reproject(GeometricGraph& graph, GeoOrigin origin);
+
 // Great-circle (haversine) distance in metres on the mean earth sphere; an independent
 // check of projected lengths.
 double haversine_m(double lat1, double lon1, double lat2, double lon2);

@@ -30,7 +30,7 @@ void write_geojson(const GeometricGraph& g, std::ostream& out) {
     out << R"({"type":"FeatureCollection","ggg":{"format":"ggg-geojson","version":1,"origin_latlon":[)";
     char buffer[64];
     std::snprintf(buffer, sizeof buffer, "%.9f,%.9f", g.origin.lat, g.origin.lon);
-    out << buffer << "],\"crs_local\":" << nlohmann::json(projection.proj_string()).dump() << "},\n\"features\":[";
+    out << buffer << "],\"crs_local\":" << nlohmann::json(local_crs(g.origin)).dump() << "},\n\"features\":[";
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         const auto id = static_cast<EdgeId>(e);
         const auto [u, v] = g.edges[e];

@@ -9,6 +9,7 @@
 #include "ggg/error.hpp"
 #include "ggg/io/geojson.hpp"
 #include "ggg/io/graph_file.hpp"
+#include "ggg/projection.hpp"
 
 namespace ggg {
 namespace {
@@ -62,6 +63,7 @@ GeometricGraph read_graph(const std::string& path, const ImportOptions& options,
     } else {
         g = read_geojson(text, path, options.topology);
     }
+    if (options.origin) reproject(g, *options.origin);
     report(progress, 1.0, "done");
     return g;
 }
