@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -18,6 +19,20 @@
 
 namespace {
 
+// CLI11's own NonNegativeNumber prints its whole numeric range in the message.
+const CLI::Validator non_negative(
+    [](std::string& value) {
+        try {
+            std::size_t used = 0;
+            const double x = std::stod(value, &used);
+            if (used != value.size() || !(x >= 0) || !std::isfinite(x)) return std::string("must be a number >= 0");
+        } catch (const std::exception&) {
+            return std::string("must be a number >= 0");
+        }
+        return std::string();
+    },
+    "NUMBER >= 0");
+
 struct ImportFlags {
     std::string highways = "drivable";
     bool keep_shape_nodes = false;
@@ -30,7 +45,7 @@ struct ImportFlags {
         command.add_flag("--keep-shape-nodes", keep_shape_nodes, "Keep every OSM node as a vertex");
         command.add_option("--consolidate", consolidate_m,
                            "Merge intersections closer than this many metres (dual carriageways, roundabouts); 0 = off")
-            ->check(CLI::NonNegativeNumber)
+            ->check(non_negative)
             ->capture_default_str();
     }
 
@@ -101,16 +116,16 @@ int main(int argc, char** argv) {
     std::string base_path;
     auto* derive = app.add_subcommand("derive", "Derive a graph from a grammar's axiom (or grow a base graph) by parallel rewriting");
     derive->add_option("GRAMMAR", grammar_path, "Grammar file (.json)")->required();
-    derive->add_option("--steps", derive_options.max_steps, "Derivation steps")->check(CLI::NonNegativeNumber)->capture_default_str();
+    derive->add_option("--steps", derive_options.max_steps, "Derivation steps")->check(non_negative)->capture_default_str();
     derive->add_option("--max-vertices", derive_options.max_vertices, "Vertex budget: a step that would pass it is not applied")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     auto* relative = derive->add_option("--tolerance", derive_options.tolerance,
                                         "Embedding and merge tolerance as a fraction of the rewritten vertex's scale")
-                         ->check(CLI::NonNegativeNumber)
+                         ->check(non_negative)
                          ->capture_default_str();
     derive->add_option("--tolerance-m", tolerance_m, "Embedding and merge tolerance in metres (instead of --tolerance)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(non_negative)
         ->excludes(relative);
     derive->add_flag("--strict", derive_options.strict, "Apply a rule only where every embedding point finds a partner");
     derive->add_option("--base", base_path, "Grow this graph (OSM, GeoJSON or .ggraph) with the axiom's vertices added to it");

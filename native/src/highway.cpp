@@ -80,13 +80,13 @@ HighwayFilter HighwayFilter::parse(std::string_view spec) {
         while (!item.empty() && item.front() == ' ') item.remove_prefix(1);
         while (!item.empty() && item.back() == ' ') item.remove_suffix(1);
         if (!item.empty()) {
-            const bool plain = std::all_of(item.begin(), item.end(), [](char ch) {
-                return (ch >= 'a' && ch <= 'z') || ch == '_';
-            });
-            if (!plain) {
-                throw UsageError("unknown highway filter value '" + std::string(item) +
-                                 "' (use drivable, all, or a comma-separated list such as "
-                                 "primary,secondary,residential)");
+            if (!highway_from_known_name(item)) {
+                std::string known;
+                for (int c = 0; c < highway_class_count; ++c) {
+                    known += (c ? ", " : "") + std::string(highway_name(static_cast<HighwayClass>(c)));
+                }
+                throw UsageError("unknown highway class '" + std::string(item) +
+                                 "' in the filter (use drivable, all, or a comma-separated list of: " + known + ")");
             }
             f.values_.emplace_back(item);
         }
@@ -100,7 +100,9 @@ HighwayFilter HighwayFilter::parse(std::string_view spec) {
 
 bool HighwayFilter::accepts(std::string_view highway_value) const noexcept {
     if (all_) return !highway_value.empty();
-    return std::find(values_.begin(), values_.end(), highway_value) != values_.end();
+    if (highway_value.empty()) return false;
+    const std::string_view key = highway_from_known_name(highway_value) ? highway_value : std::string_view("other");
+    return std::find(values_.begin(), values_.end(), key) != values_.end();
 }
 
 } // namespace ggg

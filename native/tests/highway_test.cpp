@@ -24,6 +24,11 @@ TEST(HighwayFilter, ExplicitList) {
     EXPECT_TRUE(f.accepts("secondary"));
     EXPECT_FALSE(f.accepts("residential"));
     EXPECT_THROW(HighwayFilter::parse("primary;secondary"), UsageError);
+    EXPECT_THROW(HighwayFilter::parse("primary,primay"), UsageError); // a typo is not silently nothing
+    const auto other = HighwayFilter::parse("residential,other");
+    EXPECT_TRUE(other.accepts("construction"));
+    EXPECT_TRUE(other.accepts("residential"));
+    EXPECT_FALSE(other.accepts("primary"));
     EXPECT_THROW(HighwayFilter::parse(" , "), UsageError);
 }
 

@@ -186,3 +186,54 @@ TEST(ReadGraph, IntoTheFrameOfAnotherOrigin) {
     const GeometricGraph moved_file = read_graph(saved, options);
     for (std::size_t v = 0; v < own.vertex_count(); ++v) EXPECT_LT((moved_file.positions[v] - moved.positions[v]).norm(), 1e-6);
 }
+
+TEST(ReadGraph, OwnFormatUnderAJsonNameIsRecognisedByContent) {
+    GeometricGraph g;
+    g.add_vertex({0, 0});
+    g.add_vertex({10, 0});
+    g.add_edge(0, 1, {});
+    const std::string path = temp_path(".json");
+    write_graph_file(g, path);
+    EXPECT_EQ(read_graph(path).edge_count(), 1u);
+}
+
+TEST(ReadGraph, StrangeDocumentsAreInputErrors) {
+    EXPECT_NE(message_of([] { read_graph(temp_file(R"({"format": 5})", ".json")); }).find(".json: not GeoJSON"), std::string::npos);
+    EXPECT_NE(message_of([] { read_graph(temp_file(R"({"format": 5})", ".ggraph")); }).find("not a ggg graph file"), std::string::npos);
+    GeometricGraph g;
+    g.add_vertex({0, 0});
+    g.add_vertex({10, 0});
+    g.add_edge(0, 1, {});
+    auto doc = graph_to_json(g);
+    auto loop = doc;
+    loop["edges"]["v"][0] = 0;
+    EXPECT_NE(message_of([&] { graph_from_json(loop, "g.ggraph"); }).find("edges.v[0]: an edge must join two different vertices"), std::string::npos);
+    auto twice = doc;
+    for (const char* c : {"u", "v", "highway", "oneway", "lanes", "width", "way_id", "name", "shape"}) twice["edges"][c].push_back(twice["edges"][c][0]);
+    EXPECT_NE(message_of([&] { graph_from_json(twice, "g.ggraph"); }).find("edges.v[1]: a second edge"), std::string::npos);
+    auto width = doc;
+    width["edges"]["width"][0] = -3.0;
+    EXPECT_NE(message_of([&] { graph_from_json(width, "g.ggraph"); }).find("edges.width[0]"), std::string::npos);
+}
+
+TEST(WriteGraph, InvalidUtf8NamesAreReplacedAndFailedWritesLeaveNoFile) {
+    GeometricGraph g;
+    g.add_vertex({0, 0});
+    g.add_vertex({10, 0});
+    EdgeAttributes a;
+    a.name = std::string("Rue \xff\xfe des Bugs");
+    g.add_edge(0, 1, a);
+    for (const char* suffix : {".geojson", ".ggraph"}) {
+        const std::string path = temp_path(suffix);
+        write_graph(g, path);
+        const GeometricGraph back = read_graph(path);
+        EXPECT_EQ(back.edge_count(), 1u);
+        EXPECT_NE(std::string(back.edge_name(0)).find("des Bugs"), std::string::npos);
+    }
+    const std::string dir = temp_path("");
+    std::filesystem::create_directories(dir);
+    const std::string blocked = dir + "/out.geojson";
+    std::filesystem::create_directories(blocked); // a folder where the file should go
+    EXPECT_THROW(write_graph(g, blocked), InputError);
+    EXPECT_FALSE(std::filesystem::exists(blocked + ".partial"));
+}

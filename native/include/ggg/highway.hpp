@@ -1,7 +1,9 @@
 #pragma once
 // Road classes from the OSM `highway` tag, their importance and the import filter.
 // The class code is what crosses into Python and Blender (an edge attribute), so the
-// order of the enum is part of the file formats: append, never reorder.
+// order of the enum is part of the file formats: append, never reorder, and bump the
+// .ggraph version when appending so that older readers say "newer file" rather than fail
+// on a code they do not know.
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -35,8 +37,9 @@ public:
     // Motorway … residential, living_street, unclassified and their _link roads.
     static HighwayFilter drivable();
     static HighwayFilter all();
-    // "drivable", "all" or a comma-separated list of highway values ("primary,secondary").
-    // Throws UsageError naming an unknown value.
+    // "drivable", "all" or a comma-separated list of class names ("primary,secondary");
+    // "other" stands for every highway value that is not one of the named classes
+    // (construction, proposed, raceway, ...). Throws UsageError naming an unknown class.
     static HighwayFilter parse(std::string_view spec);
 
     bool accepts(std::string_view highway_value) const noexcept;

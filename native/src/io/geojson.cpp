@@ -9,6 +9,7 @@
 
 #include "ggg/error.hpp"
 #include "ggg/projection.hpp"
+#include "json_util.hpp"
 
 namespace ggg {
 namespace {
@@ -30,17 +31,17 @@ void write_geojson(const GeometricGraph& g, std::ostream& out) {
     out << R"({"type":"FeatureCollection","ggg":{"format":"ggg-geojson","version":1,"origin_latlon":[)";
     char buffer[64];
     std::snprintf(buffer, sizeof buffer, "%.9f,%.9f", g.origin.lat, g.origin.lon);
-    out << buffer << "],\"crs_local\":" << nlohmann::json(local_crs(g.origin)).dump() << "},\n\"features\":[";
+    out << buffer << "],\"crs_local\":" << io_detail::dump(local_crs(g.origin)) << "},\n\"features\":[";
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         const auto id = static_cast<EdgeId>(e);
         const auto [u, v] = g.edges[e];
         out << (e ? ",\n" : "\n") << R"({"type":"Feature","properties":{"highway":")" << highway_name(g.edge_highway[e])
-            << "\",\"name\":" << nlohmann::json(std::string(g.edge_name(id))).dump()
+            << "\",\"name\":" << io_detail::dump(std::string(g.edge_name(id)))
             << ",\"osm_way_id\":" << g.edge_way_ids[e] << ",\"oneway\":" << int(g.edge_oneway[e]) << ",\"lanes\":";
         if (g.edge_lanes[e] > 0) out << g.edge_lanes[e];
         else out << "null";
         out << ",\"width\":";
-        if (std::isfinite(g.edge_width_m[e])) out << nlohmann::json(g.edge_width_m[e]).dump();
+        if (std::isfinite(g.edge_width_m[e])) out << io_detail::dump(g.edge_width_m[e]);
         else out << "null";
         out << ",\"from_osm_node\":" << g.vertex_osm_ids[static_cast<std::size_t>(u)]
             << ",\"to_osm_node\":" << g.vertex_osm_ids[static_cast<std::size_t>(v)]
@@ -57,11 +58,7 @@ void write_geojson(const GeometricGraph& g, std::ostream& out) {
 }
 
 void write_geojson(const GeometricGraph& g, const std::string& path) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw InputError(path + ": cannot open for writing");
-    write_geojson(g, out);
-    out.flush();
-    if (!out) throw InputError(path + ": write failed");
+    io_detail::write_file(path, [&](std::ostream& out) { write_geojson(g, out); });
 }
 
 namespace {
@@ -174,6 +171,10 @@ GeometricGraph read_geojson(const std::string& text, const std::string& name, co
     } catch (const nlohmann::json::parse_error& e) {
         throw InputError(name + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
     }
+    return read_geojson(doc, name, options);
+}
+
+GeometricGraph read_geojson(const nlohmann::json& doc, const std::string& name, const TopologyOptions& options) {
     GeoJsonReader reader{name, {}, {}, {}};
     if (!doc.is_object() || !doc.contains("type") || !doc["type"].is_string()) {
         throw InputError(name + ": not GeoJSON (no \"type\" member)");

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ggg/error.hpp"
+#include "json_util.hpp"
 
 namespace ggg {
 
@@ -133,7 +134,7 @@ private:
 
 Grammar grammar_from_json(const json& doc, const std::string& name) {
     Reader r(name);
-    if (!doc.is_object() || doc.value("format", "") != "ggg-grammar") {
+    if (!io_detail::has_format(doc, "ggg-grammar")) {
         throw GrammarError(name + ": not a grammar file (\"format\": \"ggg-grammar\" missing)");
     }
     const json& version = r.member(doc, "version", "file");
@@ -258,11 +259,8 @@ Grammar read_grammar(const std::string& path) {
 }
 
 void write_grammar(const Grammar& grammar, const std::string& path) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw InputError(path + ": cannot open for writing");
-    out << grammar_to_json(grammar).dump(1) << '\n';
-    out.flush();
-    if (!out) throw InputError(path + ": write failed");
+    const std::string text = io_detail::dump(grammar_to_json(grammar), 1);
+    io_detail::write_file(path, [&](std::ostream& out) { out << text << '\n'; });
 }
 
 } // namespace ggg

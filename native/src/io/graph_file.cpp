@@ -3,10 +3,12 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <unordered_set>
 
 #include <nlohmann/json.hpp>
 
 #include "ggg/error.hpp"
+#include "json_util.hpp"
 
 namespace ggg {
 
@@ -133,7 +135,7 @@ std::string at(const char* column, std::size_t i) { return std::string(column) +
 
 GeometricGraph graph_from_json(const json& doc, const std::string& name) {
     Reader r(name);
-    if (!doc.is_object() || doc.value("format", "") != "ggg-graph") {
+    if (!io_detail::has_format(doc, "ggg-graph")) {
         throw InputError(name + ": not a ggg graph file (\"format\": \"ggg-graph\" missing)");
     }
     const auto version = r.integer(r.member(doc, "version", "file"), "version", 1, 1 << 20);
@@ -192,6 +194,7 @@ GeometricGraph graph_from_json(const json& doc, const std::string& name) {
     const json& shape = r.column(edges, "shape", "edges", m);
     const auto last_vertex = static_cast<std::int64_t>(n) - 1;
     std::vector<Vec2> line;
+    std::unordered_set<std::uint64_t> edge_keys;
     for (std::size_t e = 0; e < m; ++e) {
         const auto a = static_cast<VertexId>(r.integer(u[e], "edges." + at("u", e), 0, last_vertex));
         const auto b = static_cast<VertexId>(r.integer(v[e], "edges." + at("v", e), 0, last_vertex));
@@ -199,7 +202,14 @@ GeometricGraph graph_from_json(const json& doc, const std::string& name) {
         attributes.highway = static_cast<HighwayClass>(r.integer(highway[e], "edges." + at("highway", e), 0, highway_class_count - 1));
         attributes.oneway = static_cast<std::int8_t>(r.integer(oneway[e], "edges." + at("oneway", e), -1, 1));
         attributes.lanes = static_cast<std::int16_t>(r.integer(lanes[e], "edges." + at("lanes", e), 0, 50));
-        if (!width[e].is_null()) attributes.width_m = r.number(width[e], "edges." + at("width", e));
+        if (!width[e].is_null()) {
+            attributes.width_m = r.number(width[e], "edges." + at("width", e));
+            if (attributes.width_m <= 0) r.fail("edges." + at("width", e), "a width must be > 0 (or null)");
+        }
+        if (a == b) r.fail("edges." + at("v", e), "an edge must join two different vertices");
+        if (!edge_keys.insert((static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b))).second) {
+            r.fail("edges." + at("v", e), "a second edge between vertices " + std::to_string(a) + " and " + std::to_string(b));
+        }
         attributes.way_id = r.integer(way[e], "edges." + at("way_id", e), std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max());
         attributes.name = g.names[static_cast<std::size_t>(r.integer(name_index[e], "edges." + at("name", e), 0, static_cast<std::int64_t>(g.names.size()) - 1))];
         const json& points = shape[e];
@@ -215,11 +225,8 @@ GeometricGraph graph_from_json(const json& doc, const std::string& name) {
 }
 
 void write_graph_file(const GeometricGraph& g, const std::string& path) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw InputError(path + ": cannot open for writing");
-    out << graph_to_json(g).dump() << '\n';
-    out.flush();
-    if (!out) throw InputError(path + ": write failed");
+    const std::string text = io_detail::dump(graph_to_json(g));
+    io_detail::write_file(path, [&](std::ostream& out) { out << text << '\n'; });
 }
 
 GeometricGraph read_graph_file(const std::string& path) {

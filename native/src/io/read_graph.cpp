@@ -10,6 +10,7 @@
 #include "ggg/io/geojson.hpp"
 #include "ggg/io/graph_file.hpp"
 #include "ggg/projection.hpp"
+#include "json_util.hpp"
 
 namespace ggg {
 namespace {
@@ -42,27 +43,22 @@ GeometricGraph read_graph(const std::string& path, const ImportOptions& options,
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
     if (type == GraphFileType::unknown) {
-        throw InputError(path + ": unknown file type (expected .osm, .osm.pbf, .osm.bz2, .osm.gz, .geojson or .ggraph)");
+        throw InputError(path + ": unknown file type (expected .osm, .osm.pbf, .pbf, .osm.bz2, .osm.gz, .opl, .geojson, .json or .ggraph)");
     }
     report(progress, 0.0, "reading " + std::filesystem::path(path).filename().string());
     std::string text = read_text(path);
     if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": the file is empty");
-    // A .json may hold either format; the content decides.
-    const bool own = type == GraphFileType::graph_file ||
-                     text.substr(0, 256).find("\"ggg-graph\"") != std::string::npos;
-    GeometricGraph g;
-    if (own) {
-        nlohmann::json doc;
-        try {
-            doc = nlohmann::json::parse(text);
-        } catch (const nlohmann::json::parse_error& e) {
-            throw InputError(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-        }
-        text.clear();
-        g = graph_from_json(doc, path);
-    } else {
-        g = read_geojson(text, path, options.topology);
+    nlohmann::json doc;
+    try {
+        doc = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
     }
+    text.clear();
+    // A .json may hold either format; the content decides.
+    GeometricGraph g = type == GraphFileType::graph_file || io_detail::has_format(doc, "ggg-graph")
+                           ? graph_from_json(doc, path)
+                           : read_geojson(doc, path, options.topology);
     if (options.origin) reproject(g, *options.origin);
     report(progress, 1.0, "done");
     return g;

@@ -7,6 +7,8 @@
 #include <iosfwd>
 #include <string>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "ggg/geometric_graph.hpp"
 #include "ggg/topology.hpp"
 
@@ -17,5 +19,6 @@ void write_geojson(const GeometricGraph& graph, const std::string& path);
 
 // `name` is used in error messages (the file name).
 GeometricGraph read_geojson(const std::string& text, const std::string& name, const TopologyOptions& options = {});
+GeometricGraph read_geojson(const nlohmann::json& document, const std::string& name, const TopologyOptions& options = {});
 
 } // namespace ggg
