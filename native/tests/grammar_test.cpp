@@ -314,3 +314,35 @@ TEST(GrammarFile, MalformedFilesNameThePlace) {
     }
     EXPECT_THROW(read_grammar("/nonexistent/g.json"), GrammarError);
 }
+
+TEST(CliDerive, PrintsCountsAndWritesTheGraph) {
+    const std::string grammar = std::string(GGG_SAMPLES_DIR) + "/sierpinski.grammar.json";
+    const std::string out = ggg::test::temp_path(".ggraph");
+    const auto result = ggg::test::run_cli("derive '" + grammar + "' --steps 3 -o '" + out + "'");
+    ASSERT_EQ(result.code, 0) << result.err;
+    const auto summary = nlohmann::json::parse(result.out);
+    EXPECT_EQ(summary["vertices"], 81);
+    EXPECT_EQ(summary["edges"], 81);
+    EXPECT_EQ(summary["steps"], 3);
+    EXPECT_EQ(summary["stopped_by_budget"], false);
+    const auto info = ggg::test::run_cli("info '" + out + "'");
+    EXPECT_EQ(nlohmann::json::parse(info.out)["edges"], 81);
+
+    const auto budget = ggg::test::run_cli("derive '" + grammar + "' --steps 40 --max-vertices 1000 -o '" + out + "'");
+    ASSERT_EQ(budget.code, 0) << budget.err;
+    EXPECT_EQ(nlohmann::json::parse(budget.out)["stopped_by_budget"], true);
+    EXPECT_EQ(nlohmann::json::parse(budget.out)["vertices"], 729);
+    EXPECT_NE(budget.err.find("--max-vertices"), std::string::npos);
+}
+
+TEST(CliDerive, ErrorsAndUsage) {
+    const std::string bad = ggg::test::temp_file(R"({"format":"ggg-grammar","version":1,"rules":[]})", ".json");
+    auto r = ggg::test::run_cli("derive '" + bad + "' -o '" + ggg::test::temp_path(".geojson") + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("error: " + bad + ": file: missing \"axiom\""), std::string::npos) << r.err;
+    const std::string grammar = std::string(GGG_SAMPLES_DIR) + "/sierpinski.grammar.json";
+    for (const std::string& args : std::vector<std::string>{"--steps -1", "--tolerance 0.1 --tolerance-m 2", "--max-vertices 0"}) {
+        r = ggg::test::run_cli("derive '" + grammar + "' " + args + " -o '" + ggg::test::temp_path(".geojson") + "'");
+        EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    }
+}

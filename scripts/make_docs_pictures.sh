@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Makes every picture in docs/ and the README (after scripts/build.sh).
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${GGG_BUILD_DIR:-$root/build}
+out="$root/docs/figures"
+mkdir -p "$out"
+render() { # INPUT OUTPUT [demo options]
+  GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
+    --python "$root/scripts/blender_demo.py" -- "$@" >/dev/null
+}
+render "$root/samples/sample_city.osm" "$out/sample_city.png" --credit ""
+if [ -d "$root/../shared/osm" ]; then
+  render "$root/../shared/osm/paris_marais.osm.pbf" "$out/paris_marais.png"
+else
+  echo "note: ../shared/osm is absent: docs/figures/paris_marais.png is not remade" >&2
+fi
+if [ -f "$root/scripts/make_figures.py" ]; then
+  GGG_MODULE_DIR="$build/python" /usr/bin/python3 "$root/scripts/make_figures.py" --out-dir "$out"
+fi
+if [ -f "$root/scripts/render_grammar_demo.py" ]; then
+  GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
+    --python "$root/scripts/render_grammar_demo.py" -- "$out/sierpinski_blender.png" >/dev/null
+fi
+echo "pictures written to $out"
