@@ -9,7 +9,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev
   pybind11-dev python3-dev python3-numpy python3-pytest
   libgtest-dev libgmock-dev libbenchmark-dev
-  blender zip xvfb xauth
+  blender zip xvfb xauth python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -173,6 +173,8 @@ int main(int argc, char** argv) {
                                         {"embedding_edges", report.totals.embedding_edges},
                                         {"missed_embeddings", report.totals.missed_embeddings},
                                         {"refused", report.totals.refused},
+                                        {"merged_vertices", report.totals.merged_vertices},
+                                        {"nothing_to_rewrite", report.nothing_to_rewrite},
                                         {"seconds", seconds.count()}}
                              .dump()
                       << std::endl;

@@ -199,6 +199,7 @@ py::tuple derive(const ggg::Grammar& grammar, std::optional<ggg::GeometricGraph>
     r["embedding_edges"] = report.totals.embedding_edges;
     r["missed_embeddings"] = report.totals.missed_embeddings;
     r["merged_vertices"] = report.totals.merged_vertices;
+    r["nothing_to_rewrite"] = report.nothing_to_rewrite;
     return py::make_tuple(std::move(graph), r);
 }
 

@@ -256,9 +256,10 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
         StepReport s;
         bool over_budget = false;
         const std::size_t vertices_before = g.vertex_count();
-        const std::size_t edges_before = g.edge_count();
         const std::vector<Vec2> positions_before = g.positions;
         const std::vector<Symbol> symbols_before = g.symbols;
+        const std::vector<Similarity2> frames_before = g.frames;
+        const std::vector<std::array<VertexId, 2>> edges_before = g.edges;
         if (!derive_step(g, grammar, options, &s, &over_budget)) {
             result.stopped_by_budget = over_budget;
             result.nothing_to_rewrite = !over_budget;
@@ -271,8 +272,10 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
         result.totals.embedding_edges += s.embedding_edges;
         result.totals.missed_embeddings += s.missed_embeddings;
         result.totals.merged_vertices += s.merged_vertices;
-        if (g.vertex_count() == vertices_before && g.edge_count() == edges_before && g.positions == positions_before &&
-            g.symbols == symbols_before) {
+        const bool same_frames = std::equal(g.frames.begin(), g.frames.end(), frames_before.begin(), frames_before.end(),
+                                            [](const Similarity2& x, const Similarity2& y) { return x.a == y.a && x.b == y.b && x.t == y.t; });
+        if (g.vertex_count() == vertices_before && g.edges == edges_before && g.positions == positions_before &&
+            g.symbols == symbols_before && same_frames) {
             result.converged = true;
             break;
         }

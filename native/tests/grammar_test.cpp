@@ -263,6 +263,24 @@ TEST(Derivation, AFixedPointEndsTheDerivation) {
     EXPECT_EQ(graph.vertex_count(), 1u);
 }
 
+TEST(Derivation, AStepThatOnlyMovesAFrameOrAnEdgeIsNotAFixedPoint) {
+    // P -> P at half the scale, embedded at (1, 0): the first step connects P to the vertex at
+    // (1000, 0); the second, at half the scale, to the one at (500, 0). Positions stay put.
+    Grammar g;
+    g.symbol_names = {"P"};
+    Rule rule;
+    rule.symbol = 1;
+    rule.vertices = {{{0, 0}, 1, {0.5, 0.0}, {{{1, 0}}}}};
+    g.rules = {rule};
+    g.axiom_vertices = {{{0, 0}, 1, {1000.0, 0.0}}, {{1000, 0}, 0, {}}, {{500, 0}, 0, {}}};
+    GeometricGraph graph = g.axiom_graph();
+    DeriveOptions options;
+    options.max_steps = 3;
+    const DeriveReport report = derive(graph, g, options);
+    EXPECT_FALSE(report.converged);
+    EXPECT_EQ(report.steps, 3);
+}
+
 TEST(Derivation, SameInputSameOutput) {
     const Grammar g = sierpinski();
     GeometricGraph a = g.axiom_graph(), b = g.axiom_graph();
@@ -306,6 +324,8 @@ TEST(GrammarFile, MalformedFilesNameThePlace) {
         {R"({"format":"ggg-grammar","version":7})", "newer than this program"},
         {R"({"format":"ggg-grammar","version":1,"rules":[{"symbol":"P","vertices":[{"position":[0,0]}],"edges":[]})", "not valid JSON"},
         {R"({"type":"FeatureCollection"})", "not a grammar file"},
+        {head + R"({"position":[0,1e400]}],"edges":[]}])" + axiom, "not valid JSON (number overflow"},
+        {head + R"({"position":[0,0]}],"edges":[]}],"origin_latlon":[1]})", "origin_latlon: must be [latitude, longitude]"},
     };
     for (const Case& c : cases) {
         const std::string message = grammar_error(c.text);

@@ -165,13 +165,7 @@ struct GeoJsonReader {
 } // namespace
 
 GeometricGraph read_geojson(const std::string& text, const std::string& name, const TopologyOptions& options) {
-    nlohmann::json doc;
-    try {
-        doc = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw InputError(name + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-    }
-    return read_geojson(doc, name, options);
+    return read_geojson(io_detail::parse<InputError>(text, name), name, options);
 }
 
 GeometricGraph read_geojson(const nlohmann::json& doc, const std::string& name, const TopologyOptions& options) {

@@ -149,8 +149,8 @@ Grammar grammar_from_json(const json& doc, const std::string& name) {
         g.name = n->get<std::string>();
     }
     if (const json* o = r.optional(doc, "origin_latlon")) {
-        const Vec2 p = r.point(*o, "origin_latlon");
-        g.origin = {p.x(), p.y()};
+        if (!o->is_array() || o->size() != 2) r.fail("origin_latlon", "must be [latitude, longitude]");
+        g.origin = {r.number((*o)[0], "origin_latlon[0]"), r.number((*o)[1], "origin_latlon[1]")};
     }
     // Symbols: those declared, then the left sides of the rules.
     std::map<std::string, Symbol> symbol_of;
@@ -238,13 +238,7 @@ Grammar grammar_from_json(const json& doc, const std::string& name) {
 }
 
 Grammar parse_grammar(const std::string& text, const std::string& name) {
-    json doc;
-    try {
-        doc = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw GrammarError(name + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-    }
-    return grammar_from_json(doc, name);
+    return grammar_from_json(io_detail::parse<GrammarError>(text, name), name);
 }
 
 Grammar read_grammar(const std::string& path) {

@@ -232,13 +232,7 @@ void write_graph_file(const GeometricGraph& g, const std::string& path) {
 GeometricGraph read_graph_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open");
-    json doc;
-    try {
-        doc = json::parse(in);
-    } catch (const json::parse_error& e) {
-        throw InputError(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-    }
-    return graph_from_json(doc, path);
+    return graph_from_json(io_detail::parse<InputError>(in, path), path);
 }
 
 } // namespace ggg

@@ -24,6 +24,22 @@ inline std::string dump(const nlohmann::json& value, int indent = -1) {
     return value.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+// Parses JSON text; any failure (syntax, a number too large for a double, ...) becomes
+// `ErrorType` naming the file.
+template <typename ErrorType, typename Input>
+nlohmann::json parse(Input&& input, const std::string& name) {
+    try {
+        return nlohmann::json::parse(std::forward<Input>(input));
+    } catch (const nlohmann::json::parse_error& e) {
+        throw ErrorType(name + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+    } catch (const nlohmann::json::exception& e) {
+        std::string what = e.what();
+        const auto bracket = what.find("] ");
+        if (bracket != std::string::npos) what = what.substr(bracket + 2);
+        throw ErrorType(name + ": not valid JSON (" + what + ")");
+    }
+}
+
 // Writes through a temporary file beside `path` and renames it into place, so a failure
 // leaves no half-written file behind.
 inline void write_file(const std::string& path, const std::function<void(std::ostream&)>& write) {

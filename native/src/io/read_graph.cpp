@@ -48,12 +48,7 @@ GeometricGraph read_graph(const std::string& path, const ImportOptions& options,
     report(progress, 0.0, "reading " + std::filesystem::path(path).filename().string());
     std::string text = read_text(path);
     if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": the file is empty");
-    nlohmann::json doc;
-    try {
-        doc = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw InputError(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-    }
+    const nlohmann::json doc = io_detail::parse<InputError>(text, path);
     text.clear();
     // A .json may hold either format; the content decides.
     GeometricGraph g = type == GraphFileType::graph_file || io_detail::has_format(doc, "ggg-graph")
