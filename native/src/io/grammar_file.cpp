@@ -59,33 +59,11 @@ json grammar_to_json(const Grammar& g) {
 
 namespace {
 
-class Reader {
+// Grammar members on top of the shared reader: points, frames, classes, edge lists.
+class Reader : public io_detail::JsonReader<GrammarError> {
 public:
-    explicit Reader(const std::string& name) : name_(name) {}
+    using JsonReader::JsonReader;
 
-    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-        throw GrammarError(name_ + ": " + where + ": " + what);
-    }
-    const json& member(const json& o, const char* key, const std::string& where) const {
-        if (!o.is_object()) fail(where, "must be an object");
-        const auto it = o.find(key);
-        if (it == o.end()) fail(where, std::string("missing \"") + key + "\"");
-        return *it;
-    }
-    const json* optional(const json& o, const char* key) const {
-        const auto it = o.find(key);
-        return it == o.end() ? nullptr : &*it;
-    }
-    const json& array(const json& v, const std::string& where) const {
-        if (!v.is_array()) fail(where, "must be an array");
-        return v;
-    }
-    double number(const json& v, const std::string& where) const {
-        if (!v.is_number()) fail(where, "must be a number");
-        const double d = v.get<double>();
-        if (!std::isfinite(d)) fail(where, "must be finite");
-        return d;
-    }
     Vec2 point(const json& v, const std::string& where) const {
         if (!v.is_array() || v.size() != 2) fail(where, "must be [x, y]");
         return {number(v[0], where + "[0]"), number(v[1], where + "[1]")};
@@ -125,9 +103,6 @@ public:
         }
         return out;
     }
-
-private:
-    const std::string& name_;
 };
 
 } // namespace

@@ -85,48 +85,15 @@ json graph_to_json(const GeometricGraph& g) {
 
 namespace {
 
-class Reader {
+// Columns of the graph file: arrays of one length.
+class Reader : public io_detail::JsonReader<InputError> {
 public:
-    explicit Reader(const std::string& name) : name_(name) {}
-
-    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-        throw InputError(name_ + ": " + where + ": " + what);
-    }
-
-    const json& member(const json& object, const char* key, const std::string& where) const {
-        if (!object.is_object()) fail(where, "must be an object");
-        const auto it = object.find(key);
-        if (it == object.end()) fail(where, std::string("missing \"") + key + "\"");
-        return *it;
-    }
+    using JsonReader::JsonReader;
+    static constexpr std::size_t npos = any_size;
 
     const json& column(const json& object, const char* key, const std::string& where, std::size_t size) const {
-        const json& c = member(object, key, where);
-        if (!c.is_array()) fail(where + "." + key, "must be an array");
-        if (size != npos && c.size() != size) {
-            fail(where + "." + key, "has " + std::to_string(c.size()) + " entries, expected " + std::to_string(size));
-        }
-        return c;
+        return array(member(object, key, where), where + "." + key, size);
     }
-
-    double number(const json& value, const std::string& where) const {
-        if (!value.is_number()) fail(where, "must be a number");
-        const double d = value.get<double>();
-        if (!std::isfinite(d)) fail(where, "must be finite");
-        return d;
-    }
-
-    std::int64_t integer(const json& value, const std::string& where, std::int64_t lo, std::int64_t hi) const {
-        if (!value.is_number_integer()) fail(where, "must be an integer");
-        const auto i = value.get<std::int64_t>();
-        if (i < lo || i > hi) fail(where, std::to_string(i) + " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-        return i;
-    }
-
-    static constexpr std::size_t npos = static_cast<std::size_t>(-1);
-
-private:
-    const std::string& name_;
 };
 
 std::string at(const char* column, std::size_t i) { return std::string(column) + "[" + std::to_string(i) + "]"; }

@@ -24,6 +24,53 @@ inline std::string dump(const nlohmann::json& value, int indent = -1) {
     return value.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+// Reads a parsed document member by member; every problem is an `ErrorType` that names
+// the file and the place ("edges.u[12]: 99 out of range").
+template <typename ErrorType>
+class JsonReader {
+public:
+    using json = nlohmann::json;
+    static constexpr std::size_t any_size = static_cast<std::size_t>(-1);
+
+    explicit JsonReader(const std::string& name) : name_(name) {}
+
+    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+        throw ErrorType(name_ + ": " + where + ": " + what);
+    }
+    const json& member(const json& object, const char* key, const std::string& where) const {
+        if (!object.is_object()) fail(where, "must be an object");
+        const auto it = object.find(key);
+        if (it == object.end()) fail(where, std::string("missing \"") + key + "\"");
+        return *it;
+    }
+    const json* optional(const json& object, const char* key) const {
+        const auto it = object.find(key);
+        return it == object.end() ? nullptr : &*it;
+    }
+    const json& array(const json& value, const std::string& where, std::size_t size = any_size) const {
+        if (!value.is_array()) fail(where, "must be an array");
+        if (size != any_size && value.size() != size) {
+            fail(where, "has " + std::to_string(value.size()) + " entries, expected " + std::to_string(size));
+        }
+        return value;
+    }
+    double number(const json& value, const std::string& where) const {
+        if (!value.is_number()) fail(where, "must be a number");
+        const double d = value.get<double>();
+        if (!std::isfinite(d)) fail(where, "must be finite");
+        return d;
+    }
+    std::int64_t integer(const json& value, const std::string& where, std::int64_t lo, std::int64_t hi) const {
+        if (!value.is_number_integer()) fail(where, "must be an integer");
+        const auto i = value.get<std::int64_t>();
+        if (i < lo || i > hi) fail(where, std::to_string(i) + " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return i;
+    }
+
+private:
+    const std::string& name_;
+};
+
 // Parses JSON text; any failure (syntax, a number too large for a double, ...) becomes
 // `ErrorType` naming the file.
 template <typename ErrorType, typename Input>
