@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from conftest import edge_attribute, evaluated_mesh_arrays, import_roads, road_objects
-from road_grammar import georef, operators, surface
+from road_grammar import operators
 
 
 def _check_import(path, ggg, **options):
@@ -52,10 +52,11 @@ def _check_import(path, ggg, **options):
 
     # Scene georeference, as BlenderGIS keeps it.
     scene = bpy.context.scene
-    assert scene["SRID"] == georef.proj_string(lat, lon)
+    assert scene["SRID"] == expected.crs == graph_obj["crs"]
     assert scene["SRID"].startswith("+proj=tmerc ")
     assert scene["crs x"] == 0.0 and scene["crs y"] == 0.0
     assert scene["latitude"] == pytest.approx(lat) and scene["longitude"] == pytest.approx(lon)
+    assert scene["lat"] == pytest.approx(lat) and scene["lon"] == pytest.approx(lon)
 
     # Road surface: Geometry Nodes ribbons, flat in XY.
     assert surface_obj is not None and surface_obj.parent == graph_obj
@@ -69,9 +70,13 @@ def _check_import(path, ggg, **options):
     positions, normals, attributes = evaluated_mesh_arrays(surface_obj)
     assert len(normals) > 0, "the evaluated surface has no faces"
     assert np.all(np.abs(normals[:, 2]) > 0.999), "road ribbons are not flat"
-    top = 0.02 * (surface.LOWEST_RANK - 1)  # the default layer step times the highest lift
+    top = 0.02 * (max(ggg.highway_ranks()) - 1)  # the default layer step times the highest lift
     assert positions[:, 2].min() >= -1e-6 and positions[:, 2].max() <= top + 1e-4
     assert "rank" in attributes  # read by the material
+    # Every surface segment knows its graph edge (kept when a grammar grows the graph).
+    owner = edge_attribute(surface_mesh, "graph_edge", np.int64)
+    assert owner.min() >= 0 and owner.max() == len(mesh.edges) - 1
+    assert "symbol" not in mesh.attributes  # no nonterminals in an OSM import
     return expected, graph_obj, surface_obj
 
 

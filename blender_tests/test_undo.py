@@ -1,4 +1,4 @@
-"""Undo of an import, in a real Blender window.
+"""Undo of an import and of a grow, in a real Blender window.
 
 `blender -b` keeps no undo stack (bpy.ops.ed.undo's poll fails: "Undo disabled at
 startup"), so this test starts a second Blender with a window under Xvfb
@@ -21,7 +21,8 @@ import road_grammar
 HERE = Path(__file__).resolve().parent
 
 
-def test_undo_restores_the_scene(paris, ggg, tmp_path):
+def _session(ggg, tmp_path, input_path, mode):
+    """Run undo_session.py in a windowed Blender under Xvfb; its JSON result."""
     xvfb_run = shutil.which("xvfb-run")
     if xvfb_run is None:
         pytest.skip("xvfb-run is not installed (apt-get install xvfb xauth): undo needs a Blender "
@@ -31,13 +32,18 @@ def test_undo_restores_the_scene(paris, ggg, tmp_path):
     env["GGG_MODULE_DIR"] = str(Path(ggg.__file__).parent)
     command = [xvfb_run, "-a", bpy.app.binary_path, "--factory-startup", "--python-exit-code", "1",
                "--python", str(HERE / "undo_session.py"), "--",
-               str(Path(road_grammar.__file__).parent.parent), str(paris), str(output)]
+               str(Path(road_grammar.__file__).parent.parent), str(input_path), str(output), mode]
     completed = subprocess.run(command, env=env, stdin=subprocess.DEVNULL, capture_output=True,
                                text=True, timeout=300)
     assert output.is_file(), "the windowed Blender wrote nothing:\n" + completed.stdout[-3000:] + \
         completed.stderr[-3000:]
     result = json.loads(output.read_text())
     assert "error" not in result, result.get("error")
+    return result
+
+
+def test_undo_restores_the_scene(paris, ggg, tmp_path):
+    result = _session(ggg, tmp_path, paris, "import")
     assert result["import"] == ['FINISHED']
     before, imported = result["before"], result["imported"]
     assert len(imported["objects"]) == len(before["objects"]) + 2
@@ -46,3 +52,18 @@ def test_undo_restores_the_scene(paris, ggg, tmp_path):
     assert result["undone"] == before
     assert result["redo"] == ['FINISHED']
     assert result["redone"] == imported
+
+
+def test_undo_of_grow_restores_the_mesh(ggg, tmp_path):
+    grammar_path = HERE.parent / "samples" / "sierpinski.grammar.json"
+    result = _session(ggg, tmp_path, grammar_path, "grow")
+    assert result["load"] == ['FINISHED'] and result["axiom"] == ['FINISHED']
+    assert result["grow"] == ['FINISHED']
+    before, grown = result["before"], result["imported"]
+    assert before["meshes held"]["sierpinski"][:2] == [3, 3]
+    assert grown["meshes held"]["sierpinski"][:2] == [27, 27]
+    assert grown["meshes held"]["sierpinski Surface"][:2] == [54, 27]
+    assert result["undo"] == ['FINISHED']
+    assert result["undone"] == before
+    assert result["redo"] == ['FINISHED']
+    assert result["redone"] == grown

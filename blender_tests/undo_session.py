@@ -1,10 +1,13 @@
 """Runs inside a Blender *with a window* (under Xvfb), driven by test_undo.py.
 
 In background mode (-b) Blender keeps no undo stack, so ed.undo cannot run there. This
-script imports a file as a user would (an undo step pushed), undoes, redoes, and writes
+script runs an operator as a user would (an undo step pushed), undoes, redoes, and writes
 what the file held at each step as JSON.
 
-  blender --factory-startup --python undo_session.py -- ADDON_PARENT INPUT OUTPUT.json
+  blender --factory-startup --python undo_session.py -- ADDON_PARENT INPUT OUTPUT.json [MODE]
+
+MODE "import" (default): import the road file INPUT. MODE "grow": load the grammar file
+INPUT, add its axiom, then grow it by two steps (the step that is undone).
 """
 
 import json
@@ -14,13 +17,20 @@ import traceback
 import addon_utils
 import bpy
 
-addon_parent, input_path, output_path = sys.argv[sys.argv.index("--") + 1:][:3]
-KINDS = ("objects", "meshes", "materials", "node_groups", "collections")
+_args = sys.argv[sys.argv.index("--") + 1:]
+addon_parent, input_path, output_path = _args[:3]
+mode = _args[3] if len(_args) > 3 else "import"
+KINDS = ("objects", "meshes", "materials", "node_groups", "collections", "texts")
 
 
 def state():
     data = {kind: sorted(getattr(bpy.data, kind).keys()) for kind in KINDS}
     data["scene keys"] = sorted(bpy.context.scene.keys())
+    # What each mesh holds: counts, a checksum of the positions, its attributes.
+    data["meshes held"] = {
+        mesh.name: [len(mesh.vertices), len(mesh.edges), round(sum(v.co.x + 2.0 * v.co.y for v in mesh.vertices), 3),
+                    sorted(a.name for a in mesh.attributes if not a.name.startswith("."))]
+        for mesh in bpy.data.meshes}
     return data
 
 
@@ -37,10 +47,16 @@ def run():
         area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
         region = next(r for r in area.regions if r.type == 'WINDOW')
         with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
-            bpy.ops.ed.undo_push(message="before import")
+            if mode == "grow":
+                result["load"] = sorted(bpy.ops.roads.load_grammar('EXEC_DEFAULT', True, filepath=input_path))
+                result["axiom"] = sorted(bpy.ops.roads.add_axiom('EXEC_DEFAULT', True))
+            bpy.ops.ed.undo_push(message="before")
             result["before"] = state()
             # undo=True: push an undo step as when the user runs the operator from the menu.
-            result["import"] = sorted(bpy.ops.roads.import_osm('EXEC_DEFAULT', True, filepath=input_path))
+            if mode == "grow":
+                result["grow"] = sorted(bpy.ops.roads.grow('EXEC_DEFAULT', True, steps=2))
+            else:
+                result["import"] = sorted(bpy.ops.roads.import_osm('EXEC_DEFAULT', True, filepath=input_path))
             result["imported"] = state()
             result["undo"] = sorted(bpy.ops.ed.undo())
             result["undone"] = state()

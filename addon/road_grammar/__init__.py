@@ -1,4 +1,5 @@
-"""Road Grammar: import OpenStreetMap road networks as graphs and road surfaces.
+"""Road Grammar: import OpenStreetMap road networks as graphs and road surfaces, and grow
+road graphs with geometric graph grammars.
 
 The add-on calls the native library only through its Python module ``ggg`` (see
 native.py for where it is looked for). Registering never needs the module, so the
@@ -12,18 +13,21 @@ bl_info = {
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
     "location": "File > Import > OpenStreetMap Roads; 3D View > Sidebar > Roads",
-    "description": "Import OpenStreetMap roads as a road graph mesh with flat road surfaces",
+    "description": "Import OpenStreetMap roads as a road graph mesh with flat road surfaces; "
+    "grow road graphs with geometric graph grammars",
     "category": "Import-Export",
 }
 
 if "bpy" in locals():
     import importlib
 
-    for _module in (native, georef, mesh_build, surface, importer, preferences, operators, panels):  # noqa: F821
+    for _module in (native, georef, mesh_build, surface, frames, importer, preferences, grammar,  # noqa: F821
+                    graph_edit, operators, grammar_ops, panels):  # noqa: F821
         importlib.reload(_module)
     del _module
 else:
-    from . import native, georef, mesh_build, surface, importer, preferences, operators, panels
+    from . import (native, georef, mesh_build, surface, frames, importer, preferences, grammar, graph_edit,
+                   operators, grammar_ops, panels)
 
 import bpy
 
@@ -31,18 +35,27 @@ classes = (
     preferences.ROADS_PG_class_width,
     preferences.ROADS_AP_preferences,
     preferences.ROADS_OT_reset_widths,
+    grammar.ROADS_PG_grammar,
     operators.ROADS_OT_import_osm,
+    grammar_ops.ROADS_OT_load_grammar,
+    grammar_ops.ROADS_OT_save_grammar,
+    grammar_ops.ROADS_OT_add_axiom,
+    grammar_ops.ROADS_OT_place_rule,
+    grammar_ops.ROADS_OT_grow,
     panels.VIEW3D_PT_roads,
+    panels.VIEW3D_PT_roads_grammar,
 )
 
 
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
+    grammar.register()
     bpy.types.TOPBAR_MT_file_import.append(operators.menu_import)
 
 
 def unregister():
     bpy.types.TOPBAR_MT_file_import.remove(operators.menu_import)
+    grammar.unregister()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

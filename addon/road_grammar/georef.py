@@ -1,39 +1,84 @@
-"""The scene's georeference, kept in the custom properties the BlenderGIS add-on uses.
+"""The scene's georeference, kept in custom properties of the scene.
 
-BlenderGIS stores on the scene: ``SRID`` (the CRS: "EPSG:xxxx" or a PROJ string),
+The keys of the BlenderGIS add-on: ``SRID`` (the CRS: "EPSG:xxxx" or a PROJ string),
 ``crs x`` / ``crs y`` (the CRS coordinates of the Blender origin) and ``latitude`` /
-``longitude`` (the WGS84 position of the Blender origin). The native library projects
-each graph into a transverse Mercator frame centred on its own origin, so the first
-import sets SRID to that frame with crs x = crs y = 0. A later import into a scene that
-already has a transverse Mercator georeference is moved and turned into that frame
-(its origin projected with the formulas below, its grid north turned by the meridian
-convergence), so that extracts imported one after the other line up.
+``longitude`` (the WGS84 position of the Blender origin); and ``lat`` / ``lon``, the same
+position under the short names other tools and scripts use. The add-on writes all of them
+and reads either pair.
+
+The native library reads each graph into a transverse Mercator frame in metres. The first
+graph made in a scene sets the scene's SRID to that frame (``Graph.crs``, PROJ's own
+definition) with crs x = crs y = 0. Later graphs are read straight into the scene's frame
+(``ggg.read_graph(..., origin_latlon=scene origin)``: PROJ reprojects them), so extracts
+imported one after the other line up; there is no projection code in the add-on. A scene
+whose origin is given only by ``lat`` / ``lon`` (set by hand or by a script) gets its frame
+centred there.
 """
 
 import math
 import re
 
+import numpy as np
+
 KEY_SRID = "SRID"
 KEY_CRS_X = "crs x"
 KEY_CRS_Y = "crs y"
-KEY_LAT = "latitude"
-KEY_LON = "longitude"
+KEY_LATITUDE = "latitude"
+KEY_LONGITUDE = "longitude"
+KEY_LAT = "lat"
+KEY_LON = "lon"
 
-# WGS84 ellipsoid.
-_A = 6378137.0
-_F = 1.0 / 298.257223563
-
-
-def proj_string(lat, lon):
-    """The PROJ definition of the native library's local frame centred on (lat, lon)."""
-    return "+proj=tmerc +lat_0={:.9f} +lon_0={:.9f} +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m".format(lat, lon)
-
+# Pairs of keys that give the scene origin in WGS84, in the order they are read.
+_ORIGIN_KEYS = ((KEY_LAT, KEY_LON), (KEY_LATITUDE, KEY_LONGITUDE))
 
 _PARAM = re.compile(r"\+(\w+)(?:=(\S+))?")
 
 
+def _valid_latlon(lat, lon):
+    try:
+        lat, lon = float(lat), float(lon)
+    except (TypeError, ValueError):
+        return None
+    if not (math.isfinite(lat) and math.isfinite(lon) and abs(lat) <= 90.0 and abs(lon) <= 180.0):
+        return None
+    return lat, lon
+
+
+def origin(scene):
+    """The scene origin (lat, lon) in WGS84 from ``lat``/``lon`` or ``latitude``/``longitude``,
+    else None."""
+    for lat_key, lon_key in _ORIGIN_KEYS:
+        if lat_key in scene and lon_key in scene:
+            latlon = _valid_latlon(scene[lat_key], scene[lon_key])
+            if latlon is not None:
+                return latlon
+    return None
+
+
+def has_georef(scene):
+    return KEY_SRID in scene or origin(scene) is not None
+
+
+def crs_string(ggg, lat, lon):
+    """PROJ string of the native library's frame centred on (lat, lon) (``Graph.crs``)."""
+    empty = ggg.Graph.from_arrays(np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64), origin_latlon=(lat, lon))
+    return empty.crs
+
+
+def write(scene, lat, lon, crs):
+    """Make (lat, lon) the scene's origin, in the frame ``crs`` (a graph's ``Graph.crs``)."""
+    scene[KEY_SRID] = str(crs)
+    scene[KEY_CRS_X] = 0.0
+    scene[KEY_CRS_Y] = 0.0
+    scene[KEY_LATITUDE] = float(lat)
+    scene[KEY_LONGITUDE] = float(lon)
+    scene[KEY_LAT] = float(lat)
+    scene[KEY_LON] = float(lon)
+
+
 def parse_tmerc(srid):
-    """(lat_0, lon_0, k, x_0, y_0) of a WGS84 transverse Mercator PROJ string, else None."""
+    """(lat_0, lon_0, x_0, y_0) of a PROJ string for a WGS84 transverse Mercator in metres
+    with scale factor 1 (a frame the native library can read into), else None."""
     if not isinstance(srid, str):
         return None
     params = {m.group(1): m.group(2) for m in _PARAM.finditer(srid)}
@@ -44,98 +89,110 @@ def parse_tmerc(srid):
     if params.get("units", "m") != "m":
         return None
     try:
-        return (
-            float(params.get("lat_0", 0.0)),
-            float(params.get("lon_0", 0.0)),
-            float(params.get("k", params.get("k_0", 1.0))),
-            float(params.get("x_0", 0.0)),
-            float(params.get("y_0", 0.0)),
-        )
+        k = float(params.get("k", params.get("k_0", 1.0)))
+        values = (float(params.get("lat_0", 0.0)), float(params.get("lon_0", 0.0)),
+                  float(params.get("x_0", 0.0)), float(params.get("y_0", 0.0)))
     except ValueError:
         return None
+    if k != 1.0 or _valid_latlon(values[0], values[1]) is None:
+        return None
+    return values
 
 
-def _series():
-    n = _F / (2.0 - _F)
-    n2, n3, n4 = n * n, n ** 3, n ** 4
-    rectifying_radius = _A / (1.0 + n) * (1.0 + n2 / 4.0 + n4 / 64.0)
-    alpha = (
-        n / 2.0 - 2.0 * n2 / 3.0 + 5.0 * n3 / 16.0 + 41.0 * n4 / 180.0,
-        13.0 * n2 / 48.0 - 3.0 * n3 / 5.0 + 557.0 * n4 / 1440.0,
-        61.0 * n3 / 240.0 - 103.0 * n4 / 140.0,
-        49561.0 * n4 / 161280.0,
-    )
-    return n, rectifying_radius, alpha
+class Target:
+    """Where a graph goes in the scene: the origin to read it into (None: centred on its
+    own data), the object's location, whether it sets the scene's georeference, and a
+    warning for the user."""
 
-
-_N, _RECTIFYING_RADIUS, _ALPHA = _series()
-
-
-def _gauss_krueger(lat, dlon):
-    """(xi, eta) of Krueger's series (Karney 2011, to n^4: well below a millimetre)."""
-    phi = math.radians(lat)
-    lam = math.radians(dlon)
-    e = 2.0 * math.sqrt(_N) / (1.0 + _N)  # first eccentricity
-    sin_phi = math.sin(phi)
-    t = math.sinh(math.atanh(sin_phi) - e * math.atanh(e * sin_phi))
-    xi_prime = math.atan2(t, math.cos(lam))
-    eta_prime = math.atanh(math.sin(lam) / math.sqrt(1.0 + t * t))
-    xi, eta = xi_prime, eta_prime
-    for j, a in enumerate(_ALPHA, start=1):
-        xi += a * math.sin(2 * j * xi_prime) * math.cosh(2 * j * eta_prime)
-        eta += a * math.cos(2 * j * xi_prime) * math.sinh(2 * j * eta_prime)
-    return xi, eta
-
-
-def tmerc_forward(lat, lon, frame):
-    """Metres (x east, y north) of (lat, lon) in the frame (lat_0, lon_0, k, x_0, y_0)."""
-    lat0, lon0, k, x0, y0 = frame
-    dlon = (lon - lon0 + 180.0) % 360.0 - 180.0
-    xi, eta = _gauss_krueger(lat, dlon)
-    xi0, _ = _gauss_krueger(lat0, 0.0)
-    return x0 + k * _RECTIFYING_RADIUS * eta, y0 + k * _RECTIFYING_RADIUS * (xi - xi0)
-
-
-def has_georef(scene):
-    return KEY_SRID in scene
-
-
-def write(scene, lat, lon):
-    """Make (lat, lon) the scene's origin, in the native library's frame centred there."""
-    scene[KEY_SRID] = proj_string(lat, lon)
-    scene[KEY_CRS_X] = 0.0
-    scene[KEY_CRS_Y] = 0.0
-    scene[KEY_LAT] = float(lat)
-    scene[KEY_LON] = float(lon)
-
-
-class Placement:
-    """Where a graph whose frame is centred on (lat, lon) goes in the scene."""
-
-    def __init__(self, location=(0.0, 0.0), rotation=0.0, set_georef=False, warning=None):
+    def __init__(self, origin=None, location=(0.0, 0.0), set_georef=False, warning=None):
+        self.origin = origin
         self.location = location
-        self.rotation = rotation
         self.set_georef = set_georef
         self.warning = warning
 
+    def finish(self, scene, graph):
+        """After the graph is read: write the scene's georeference when it is the first."""
+        if self.set_georef:
+            lat, lon = (float(v) for v in graph.origin_latlon)
+            write(scene, lat, lon, graph.crs)
 
-def placement(scene, lat, lon):
-    """The Placement of a graph centred on (lat, lon) in ``scene``'s georeference."""
-    if not has_georef(scene):
-        return Placement(set_georef=True)
-    srid = scene[KEY_SRID]
-    if srid == proj_string(lat, lon) and not scene.get(KEY_CRS_X) and not scene.get(KEY_CRS_Y):
-        return Placement()
+
+def target(scene, fallback_origin=None, georeferenced=True):
+    """The Target for a new graph in ``scene``.
+
+    ``fallback_origin`` is the origin used when the scene has no georeference (None: the
+    graph's own, centred on its data); it then becomes the scene's georeference, unless
+    the graph is not ``georeferenced`` (an abstract grammar's, at origin_latlon [0, 0])."""
+    srid = scene.get(KEY_SRID)
+    scene_origin = origin(scene)
+    if srid is None:
+        if scene_origin is None:
+            return Target(origin=fallback_origin, set_georef=georeferenced)
+        # Only the origin is given (e.g. scene["lat"], scene["lon"] set by a script):
+        # the frame centred there, and the other keys are filled in.
+        return Target(origin=scene_origin, set_georef=True)
     frame = parse_tmerc(srid)
     if frame is None:
-        return Placement(
+        return Target(
+            origin=fallback_origin,
             warning="The scene is georeferenced in {} which this add-on cannot project to; the roads "
-            "were placed at the scene origin in their own frame ({}).".format(srid, proj_string(lat, lon))
+            "were placed at the scene origin in their own frame.".format(srid),
         )
-    crs_x = float(scene.get(KEY_CRS_X, 0.0))
-    crs_y = float(scene.get(KEY_CRS_Y, 0.0))
-    x, y = tmerc_forward(lat, lon, frame)
-    # Grid north of the graph's frame at its origin is true north; find its direction here.
-    north_x, north_y = tmerc_forward(min(lat + 1e-4, 90.0), lon, frame)
-    rotation = math.atan2(-(north_x - x), north_y - y)
-    return Placement(location=(x - crs_x, y - crs_y), rotation=rotation)
+    lat0, lon0, x0, y0 = frame
+    try:
+        crs_x = float(scene.get(KEY_CRS_X, 0.0))
+        crs_y = float(scene.get(KEY_CRS_Y, 0.0))
+    except (TypeError, ValueError):
+        crs_x = crs_y = 0.0
+    # Native coordinates are metres from (lat_0, lon_0); the CRS adds the false easting and
+    # northing, and the Blender origin sits at (crs x, crs y) of the CRS.
+    return Target(origin=(lat0, lon0), location=(x0 - crs_x, y0 - crs_y))
+
+
+def reproject(ggg, graph, latlon):
+    """``graph`` moved into the frame centred on ``latlon`` (PROJ, by the native library).
+
+    The module reprojects only while reading a file (read_graph's origin_latlon), so the
+    graph goes through a temporary .ggraph file, which keeps symbols and frames."""
+    import os
+    import tempfile
+
+    if tuple(float(v) for v in graph.origin_latlon) == tuple(float(v) for v in latlon):
+        return graph
+    if graph.vertex_count == 0:
+        return relabel(ggg, graph, latlon)
+    with tempfile.TemporaryDirectory(prefix="road_grammar_") as folder:
+        path = os.path.join(folder, "graph.ggraph")
+        graph.write(path)
+        return ggg.read_graph(path, origin_latlon=tuple(latlon))
+
+
+def is_abstract(latlon):
+    """True for the origin [0, 0] of grammars that are not placed on the earth."""
+    return tuple(float(v) for v in latlon) == (0.0, 0.0)
+
+
+def relabel(ggg, graph, latlon):
+    """``graph`` (of an abstract grammar) declared to be in the frame centred on ``latlon``:
+    same metres, no reprojection."""
+    return ggg.Graph.from_arrays(graph.positions, graph.edges, origin_latlon=tuple(latlon),
+                                 vertex_symbols=graph.vertex_symbols, vertex_frames=graph.vertex_frames,
+                                 edge_highway=graph.edge_highway)
+
+
+def grammar_target(ggg, scene, grammar_origin):
+    """(Target, place) for a graph of a grammar whose frame is centred on ``grammar_origin``:
+    ``place(graph)`` returns the graph in the frame the Target reads into.
+
+    A georeferenced grammar is reprojected into the scene's frame (or sets it, in a scene
+    without one); an abstract grammar's metres are taken as the scene's, around its origin,
+    and never set the scene's georeference."""
+    abstract = is_abstract(grammar_origin)
+    result = target(scene, fallback_origin=None if abstract else tuple(grammar_origin), georeferenced=not abstract)
+
+    def place(graph):
+        if result.origin is None:
+            return graph
+        return relabel(ggg, graph, result.origin) if abstract else reproject(ggg, graph, result.origin)
+
+    return result, place

@@ -1,13 +1,15 @@
-"""A road graph read by the native module -> Blender objects.
+"""A road graph (ggg.Graph) -> Blender objects.
 
-Two objects per import, linked to the active collection:
+Two objects per graph, linked to the active collection:
 
 * "<name>": the graph itself, a mesh of loose edges (one vertex per graph vertex, one
   edge per graph edge, same order as the ggg.Graph arrays) with the edge attributes
-  `highway` (class code), `width` (metres), `rank`, `lanes` and `oneway`;
-* "<name> Surface" (child of the first): the edge polylines, with `width`, `highway` and
-  `rank` per segment, and the "Road Surface" Geometry Nodes modifier that makes them
-  flat ribbons.
+  `highway` (class code), `width` (metres), `rank`, `lanes` and `oneway`; and, when the
+  graph has nonterminal vertices (grammars, see grammar_ops.py), the point attributes
+  `symbol` and `frame_a` / `frame_b` with the "Rule Frames" modifier that draws them;
+* "<name> Surface" (child of the first): the edge polylines, with `width`, `highway`,
+  `rank` and `graph_edge` (the graph edge it belongs to) per segment, and the "Road
+  Surface" Geometry Nodes modifier that makes them flat ribbons.
 """
 
 import threading
@@ -16,11 +18,20 @@ import time
 import bpy
 import numpy as np
 
-from . import georef, mesh_build, surface
+from . import frames, mesh_build, surface
 
 GRAPH_KEY = "road_graph"
 SURFACE_KEY = "road_surface"
 CLASSES_KEY = "highway_classes"
+
+# Point attributes of nonterminals: the symbol (0 = terminal street vertex, k = rule k) and
+# the similarity frame x -> [[a, -b], [b, a]] x + t of the vertex (paper 3.2), whose origin t
+# is the vertex itself, in object-local metres.
+SYMBOL = "symbol"
+FRAME_A = "frame_a"
+FRAME_B = "frame_b"
+# Surface segment attribute: the graph edge the segment belongs to.
+SURFACE_EDGE = "graph_edge"
 
 _SOURCE_SUFFIXES = (".osm.pbf", ".osm.bz2", ".osm.gz", ".osm", ".pbf", ".bz2", ".gz",
                     ".geojson", ".json", ".ggraph")
@@ -43,12 +54,13 @@ class Progress:
     from the thread that created this object, other calls just record the state.
     """
 
-    def __init__(self, context, read_share=0.85):
+    def __init__(self, context, read_share=0.85, label="Importing roads"):
         self._wm = context.window_manager
         # The status bar in the UI; the console in background mode.
         self._workspace = None if bpy.app.background or context.window is None else context.workspace
         self._thread = threading.get_ident()
         self._read_share = read_share
+        self._label = label
         self.fraction = 0.0
         self.message = ""
         self._last_print = 0.0
@@ -64,7 +76,7 @@ class Progress:
         return False
 
     def __call__(self, fraction, message):
-        """The ggg progress callback (reading): fraction in [0, 1] and what it does."""
+        """The ggg progress callback (reading, deriving): fraction in [0, 1] and what it does."""
         self.fraction = min(max(float(fraction), 0.0), 1.0) * self._read_share
         self.message = message
         if threading.get_ident() == self._thread:
@@ -79,7 +91,7 @@ class Progress:
 
     def _show(self):
         self._wm.progress_update(self.fraction)
-        text = "Importing roads: {} ({:.0f}%)".format(self.message, 100.0 * self.fraction)
+        text = "{}: {} ({:.0f}%)".format(self._label, self.message, 100.0 * self.fraction)
         if self._workspace is not None:
             self._workspace.status_text_set(text)
         else:
@@ -89,7 +101,7 @@ class Progress:
                 self._last_print = now
 
 
-class _Created:
+class Created:
     """Datablocks made during one import, removed again if the import fails midway."""
 
     def __init__(self):
@@ -112,7 +124,23 @@ class _Created:
         self.items.clear()
 
 
-def _graph_attributes(graph, widths):
+def road_graph_object(obj):
+    """The road graph ``obj`` is or belongs to (its surface), else None."""
+    if obj is None:
+        return None
+    if obj.get(GRAPH_KEY):
+        return obj
+    if obj.get(SURFACE_KEY) and obj.parent is not None and obj.parent.get(GRAPH_KEY):
+        return obj.parent
+    return None
+
+
+def surface_object(graph_obj):
+    """The surface child of a road graph object, else None."""
+    return next((child for child in graph_obj.children if child.get(SURFACE_KEY)), None)
+
+
+def graph_edge_attributes(graph, widths):
     return {
         "highway": ('INT', graph.edge_highway),
         "width": ('FLOAT', widths),
@@ -122,79 +150,132 @@ def _graph_attributes(graph, widths):
     }
 
 
-def build(context, graph, classes, widths, name, source, options, with_surface=True, progress=None):
-    """Create the road objects for ``graph``; returns (graph object, surface object or None,
-    warning or None). Either everything is created or nothing is."""
-    created = _Created()
+def vertex_attributes(symbols, frames):
+    """The point attributes of nonterminals: symbol and the frame's (a, b)."""
+    frames = np.asarray(frames, dtype=np.float64).reshape(-1, 4)
+    return {
+        SYMBOL: ('INT', np.asarray(symbols, dtype=np.int64)),
+        FRAME_A: ('FLOAT', frames[:, 0]),
+        FRAME_B: ('FLOAT', frames[:, 1]),
+    }
+
+
+def surface_geometry(positions, edges, offsets, points, edge_attributes):
+    """(points, segments, segment attributes) of the surface mesh: the edge polylines
+    (``offsets``/``points`` as Graph.edge_geometry()) with ``width``, ``highway`` and
+    ``rank`` of their edge and its index ``graph_edge``."""
+    points, segments, owner = mesh_build.polyline_segments(offsets, points, positions, edges)
+    attributes = {name: (edge_attributes[name][0], np.asarray(edge_attributes[name][1])[owner])
+                  for name in ("width", "highway", "rank")}
+    attributes[SURFACE_EDGE] = ('INT', owner)
+    return points, segments, attributes
+
+
+def build(context, graph, classes, widths, name, source, options, with_surface=True, progress=None,
+          target=None, with_frames=None, properties=None):
+    """Create the road objects for ``graph``; returns (graph object, surface object or None).
+    Either everything is created or nothing is.
+
+    ``target`` (a georef.Target) places the object and sets the scene's georeference for
+    the first graph; ``with_frames`` adds the nonterminal attributes and the Rule Frames
+    modifier (default: when the graph has nonterminals); ``properties`` are more custom
+    properties of the graph object."""
+    created = Created()
     try:
-        return _build(context, graph, classes, widths, name, source, options, with_surface, progress, created)
+        return _build(context, graph, classes, widths, name, source, options, with_surface, progress,
+                      target, with_frames, properties, created)
     except BaseException:
         created.remove_all()
         raise
 
 
-def _build(context, graph, classes, widths, name, source, options, with_surface, progress, created):
+def _shared(created, make):
+    """A shared node group or material, remembered as created when ``make`` created it."""
+    groups_before = set(bpy.data.node_groups.keys())
+    materials_before = set(bpy.data.materials.keys())
+    datablock = make()
+    if datablock.name not in (groups_before if isinstance(datablock, bpy.types.NodeTree) else materials_before):
+        created.add(datablock)
+    return datablock
+
+
+def add_surface_modifier(surface_obj, created):
+    group = _shared(created, surface.node_group)
+    mat = _shared(created, surface.material)
+    surface.add_modifier(surface_obj, group, mat)
+
+
+def add_frames_modifier(graph_obj, created):
+    """The Rule Frames modifier on ``graph_obj`` (once); the graph object then renders."""
+    if frames.find_modifier(graph_obj) is not None:
+        return
+    group = _shared(created, frames.node_group)
+    mat = _shared(created, frames.material)
+    frames.add_modifier(graph_obj, group, mat)
+    graph_obj.hide_render = False
+
+
+def _build(context, graph, classes, widths, name, source, options, with_surface, progress, target,
+           with_frames, properties, created):
     def step(fraction, message):
         if progress is not None:
             progress.step(fraction, message)
 
     scene = context.scene
     lat, lon = (float(v) for v in graph.origin_latlon)
-    place = georef.placement(scene, lat, lon)
+    location = target.location if target is not None else (0.0, 0.0)
 
     step(0.0, "graph mesh")
     positions = np.asarray(graph.positions, dtype=np.float64)
     edges = np.asarray(graph.edges, dtype=np.int32)
-    mesh = created.add(mesh_build.new_edge_mesh(name, positions, edges, _graph_attributes(graph, widths)))
+    symbols = np.asarray(graph.vertex_symbols)
+    if with_frames is None:
+        with_frames = bool(np.any(symbols != 0))
+    edge_attributes = graph_edge_attributes(graph, widths)
+    mesh = created.add(mesh_build.new_edge_mesh(
+        name, positions, edges, edge_attributes,
+        vertex_attributes(symbols, graph.vertex_frames) if with_frames else None))
     graph_obj = created.add(bpy.data.objects.new(name, mesh))
     graph_obj[GRAPH_KEY] = 1
     graph_obj[CLASSES_KEY] = {class_name: code for code, class_name in enumerate(classes)}
     graph_obj["source"] = source
     graph_obj["origin_lat"] = lat
     graph_obj["origin_lon"] = lon
-    graph_obj["crs"] = georef.proj_string(lat, lon)
+    graph_obj["crs"] = graph.crs
     graph_obj["total_length_m"] = float(graph.total_length_m)
-    graph_obj["import_options"] = options
-    graph_obj.location = (place.location[0], place.location[1], 0.0)
-    graph_obj.rotation_euler = (0.0, 0.0, place.rotation)
+    if options is not None:
+        graph_obj["import_options"] = options
+    for key, value in (properties or {}).items():
+        graph_obj[key] = value
+    graph_obj.location = (location[0], location[1], 0.0)
 
     surface_obj = None
     if with_surface:
         step(0.3, "surface polylines")
         offsets, points = graph.edge_geometry()
-        points, segments, owner = mesh_build.polyline_segments(offsets, points, positions, edges)
-        surface_mesh = created.add(mesh_build.new_edge_mesh(
-            graph_obj.name + " Surface", points, segments, {
-                "width": ('FLOAT', np.asarray(widths)[owner]),
-                "highway": ('INT', np.asarray(graph.edge_highway)[owner]),
-                "rank": ('INT', np.asarray(graph.edge_rank)[owner]),
-            }))
+        points, segments, attributes = surface_geometry(positions, edges, offsets, points, edge_attributes)
+        surface_mesh = created.add(mesh_build.new_edge_mesh(graph_obj.name + " Surface", points, segments,
+                                                            attributes))
         step(0.7, "surface modifier")
         surface_obj = created.add(bpy.data.objects.new(graph_obj.name + " Surface", surface_mesh))
         surface_obj[SURFACE_KEY] = 1
         surface_obj.parent = graph_obj
-        groups_before = set(bpy.data.node_groups.keys())
-        materials_before = set(bpy.data.materials.keys())
-        group = surface.node_group()
-        mat = surface.material()
-        if group.name not in groups_before:
-            created.add(group)
-        if mat.name not in materials_before:
-            created.add(mat)
-        surface.add_modifier(surface_obj, group, mat)
+        add_surface_modifier(surface_obj, created)
         # The graph object is for editing and analysis; the surface is what renders.
         graph_obj.hide_render = True
+    if with_frames:
+        add_frames_modifier(graph_obj, created)
 
     step(0.9, "linking")
     collection = context.collection or scene.collection
     collection.objects.link(graph_obj)
     if surface_obj is not None:
         collection.objects.link(surface_obj)
-    if place.set_georef:
-        georef.write(scene, lat, lon)
+    if target is not None:
+        target.finish(scene, graph)
     for obj in context.view_layer.objects:
         obj.select_set(False)
     graph_obj.select_set(True)
     context.view_layer.objects.active = graph_obj
     step(1.0, "done")
-    return graph_obj, surface_obj, place.warning
+    return graph_obj, surface_obj

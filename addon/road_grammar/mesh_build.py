@@ -19,24 +19,64 @@ def _xyz(points_xy):
     return xyz.ravel()
 
 
-def new_edge_mesh(name, points_xy, edges, edge_attributes=None):
+def new_edge_mesh(name, points_xy, edges, edge_attributes=None, point_attributes=None):
     """A mesh of loose edges: vertices at ``points_xy`` (z = 0), ``edges`` (M, 2) vertex
-    indices, and ``edge_attributes`` {name: (type, values)} on the EDGE domain."""
-    edges = np.asarray(edges, dtype=np.int32).reshape(-1, 2)
-    points = _xyz(points_xy)
+    indices, ``edge_attributes`` {name: (type, values)} on the EDGE domain and
+    ``point_attributes`` on the POINT domain."""
     mesh = bpy.data.meshes.new(name)
     try:
-        mesh.vertices.add(len(points) // 3)
-        mesh.vertices.foreach_set("co", points)
-        mesh.edges.add(len(edges))
-        mesh.edges.foreach_set("vertices", edges.ravel())
-        for attribute_name, (kind, values) in (edge_attributes or {}).items():
-            set_attribute(mesh, attribute_name, kind, 'EDGE', values)
-        mesh.update()
+        fill_edge_mesh(mesh, points_xy, edges, edge_attributes, point_attributes)
     except Exception:
         bpy.data.meshes.remove(mesh)
         raise
     return mesh
+
+
+def fill_edge_mesh(mesh, points_xy, edges, edge_attributes=None, point_attributes=None):
+    """Replace the geometry and attributes of ``mesh`` (the datablock stays the same)."""
+    edges = np.asarray(edges, dtype=np.int32).reshape(-1, 2)
+    points = _xyz(points_xy)
+    mesh.clear_geometry()
+    mesh.vertices.add(len(points) // 3)
+    mesh.vertices.foreach_set("co", points)
+    mesh.edges.add(len(edges))
+    mesh.edges.foreach_set("vertices", edges.ravel())
+    for attribute_name, (kind, values) in (edge_attributes or {}).items():
+        set_attribute(mesh, attribute_name, kind, 'EDGE', values)
+    for attribute_name, (kind, values) in (point_attributes or {}).items():
+        set_attribute(mesh, attribute_name, kind, 'POINT', values)
+    mesh.update()
+    return mesh
+
+
+def positions_xy(mesh):
+    """(N, 2) float64 x, y of the mesh's vertices (object-local)."""
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)[:, :2].astype(np.float64)
+
+
+def edge_vertices(mesh):
+    """(M, 2) int64 vertex indices of the mesh's edges."""
+    edges = np.empty(len(mesh.edges) * 2, dtype=np.int32)
+    mesh.edges.foreach_get("vertices", edges)
+    return edges.reshape(-1, 2).astype(np.int64)
+
+
+def user_attributes(mesh, domain):
+    """{name: (type, values)} of the generic FLOAT, INT and BOOLEAN attributes on ``domain``
+    (not Blender's internal ones, whose names start with a dot)."""
+    found = {}
+    for attribute in mesh.attributes:
+        if attribute.domain != domain or attribute.data_type not in _ATTRIBUTE_KINDS:
+            continue
+        if attribute.name.startswith(".") or getattr(attribute, "is_internal", False):
+            continue
+        if attribute.name in ("position",):
+            continue
+        found[attribute.name] = (attribute.data_type,
+                                 read_attribute(mesh, attribute.name, _ATTRIBUTE_KINDS[attribute.data_type][0]))
+    return found
 
 
 def set_attribute(mesh, name, kind, domain, values):
@@ -106,3 +146,26 @@ def _ramp(counts):
         return np.zeros(0, dtype=np.int64)
     starts = np.cumsum(counts) - counts
     return np.arange(total, dtype=np.int64) - np.repeat(starts, counts)
+
+
+def segment_polylines(points, segments, owner, edge_count):
+    """The inverse of polyline_segments: (offsets (edge_count+1,) int64, points (P, 2)), the
+    polyline of each edge from its segments (a chain, in order, as polyline_segments makes
+    them). An edge without segments gets no points (it stands for the straight segment)."""
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    segments = np.asarray(segments, dtype=np.int64).reshape(-1, 2)
+    owner = np.asarray(owner, dtype=np.int64)
+    valid = (owner >= 0) & (owner < edge_count)
+    order = np.argsort(owner[valid], kind="stable")
+    segments = segments[valid][order]
+    owner = owner[valid][order]
+    counts = np.bincount(owner, minlength=edge_count).astype(np.int64)
+    point_counts = np.where(counts > 0, counts + 1, 0)
+    offsets = np.zeros(edge_count + 1, dtype=np.int64)
+    np.cumsum(point_counts, out=offsets[1:])
+    out = np.empty((offsets[-1], 2), dtype=np.float64)
+    first_segment = np.cumsum(counts) - counts
+    has = counts > 0
+    out[offsets[:-1][has]] = points[segments[first_segment[has], 0]]
+    out[np.repeat(offsets[:-1], counts) + 1 + _ramp(counts)] = points[segments[:, 1]]
+    return offsets, out

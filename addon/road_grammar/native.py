@@ -23,7 +23,8 @@ ENV_VAR = "GGG_MODULE_DIR"
 BUNDLED_DIR = Path(__file__).resolve().parent / "native"
 
 # What the add-on calls; a module lacking any of these is from an older build.
-REQUIRED_NAMES = ("read_graph", "Graph", "Error", "InputError", "highway_classes", "default_widths")
+REQUIRED_NAMES = ("read_graph", "Graph", "Error", "InputError", "highway_classes", "default_widths",
+                  "highway_ranks", "Grammar", "GrammarError", "read_grammar", "parse_grammar", "derive")
 
 _CPYTHON_TAG = re.compile(r"\.cpython-(\d)(\d+)")
 

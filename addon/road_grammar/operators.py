@@ -7,7 +7,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from bpy.types import Operator
 from bpy_extras.io_utils import ImportHelper
 
-from . import importer, native, preferences, surface
+from . import georef, importer, native, preferences, surface
 
 HIGHWAY_ITEMS = (
     ('DRIVABLE', "Drivable", "Roads for cars: motorway to residential, links and living streets"),
@@ -94,6 +94,8 @@ class ROADS_OT_import_osm(Operator, ImportHelper):
             return {'CANCELLED'}
 
         prefs = preferences.get(context)
+        # A scene that is georeferenced already: the graph is read into its frame.
+        target = georef.target(context.scene)
         with importer.Progress(context) as progress:
             try:
                 graph = ggg.read_graph(
@@ -101,6 +103,7 @@ class ROADS_OT_import_osm(Operator, ImportHelper):
                     highways=highways,
                     keep_shape_nodes=self.keep_shape_nodes,
                     consolidate_m=self.consolidate_m,
+                    origin_latlon=target.origin,
                     progress=progress,
                 )
             except ggg.Error as ex:
@@ -123,13 +126,13 @@ class ROADS_OT_import_osm(Operator, ImportHelper):
                 "keep_shape_nodes": self.keep_shape_nodes,
                 "consolidate_m": self.consolidate_m,
             }
-            graph_obj, _surface_obj, warning = importer.build(
+            graph_obj, _surface_obj = importer.build(
                 context, graph, classes, widths, importer.object_name(path), path, options,
-                with_surface=self.build_surface, progress=progress,
+                with_surface=self.build_surface, progress=progress, target=target,
             )
 
-        if warning:
-            self.report({'WARNING'}, warning)
+        if target.warning:
+            self.report({'WARNING'}, target.warning)
         self.report(
             {'INFO'},
             "Imported {}: {} vertices, {} edges, {:.1f} km of road".format(

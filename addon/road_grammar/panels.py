@@ -1,20 +1,18 @@
-"""The "Roads" tab of the 3D view's sidebar."""
+"""The "Roads" tab of the 3D view's sidebar: the Roads panel (import, the active road
+graph, the scene's georeference) and the Grammar panel (the scene's grammar, its rules,
+and the grammar operators with their settings)."""
 
 from bpy.types import Panel
 
-from . import georef, importer, native
+from . import georef, grammar, importer, native
+from .grammar_ops import (ROADS_OT_add_axiom, ROADS_OT_grow, ROADS_OT_load_grammar, ROADS_OT_place_rule,
+                          ROADS_OT_save_grammar)
 from .operators import ROADS_OT_import_osm
 
+road_graph_object = importer.road_graph_object
 
-def road_graph_object(obj):
-    """The road graph ``obj`` is or belongs to (its surface), else None."""
-    if obj is None:
-        return None
-    if obj.get(importer.GRAPH_KEY):
-        return obj
-    if obj.get(importer.SURFACE_KEY) and obj.parent is not None and obj.parent.get(importer.GRAPH_KEY):
-        return obj.parent
-    return None
+# Rules listed in the panel; a longer grammar shows the first ones and a count.
+MAX_LISTED_RULES = 40
 
 
 class VIEW3D_PT_roads(Panel):
@@ -57,9 +55,84 @@ class VIEW3D_PT_roads(Panel):
             box = layout.box()
             box.label(text="Scene Georeference", icon='WORLD')
             col = box.column(align=True)
-            if georef.KEY_LAT in scene:
-                col.label(text="Lat/Lon: {:.6f}, {:.6f}".format(scene[georef.KEY_LAT], scene[georef.KEY_LON]))
-            _wrapped_labels(col, str(scene[georef.KEY_SRID]))
+            origin = georef.origin(scene)
+            if origin is not None:
+                col.label(text="Lat/Lon: {:.6f}, {:.6f}".format(*origin))
+            if georef.KEY_SRID in scene:
+                _wrapped_labels(col, str(scene[georef.KEY_SRID]))
+
+
+class VIEW3D_PT_roads_grammar(Panel):
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "Roads"
+    bl_label = "Grammar"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.road_grammar
+        row = layout.row(align=True)
+        row.template_ID(settings, "text", open=ROADS_OT_load_grammar.bl_idname)
+        row = layout.row(align=True)
+        row.operator(ROADS_OT_load_grammar.bl_idname, text="Load", icon='FILEBROWSER')
+        row.operator(ROADS_OT_save_grammar.bl_idname, text="Save", icon='EXPORT')
+
+        text, parsed, message = grammar.try_active(context)
+        if parsed is None:
+            if text is not None:
+                box = layout.box()
+                box.label(text="Not a valid grammar", icon='ERROR')
+                _wrapped_labels(box, message)
+            else:
+                layout.label(text="No grammar loaded", icon='INFO')
+            return
+
+        box = layout.box()
+        col = box.column(align=True)
+        col.label(text="{}: {} rule{}".format(parsed.name, len(parsed.rules), "" if len(parsed.rules) == 1 else "s"),
+                  icon='OUTLINER_DATA_GP_LAYER')
+        lat, lon = parsed.origin_latlon
+        col.label(text="Origin: {:.6f}, {:.6f}".format(lat, lon))
+        if parsed.rules:
+            # One row per rule: its symbol, then the size of S, its embedding points and how
+            # often it was used in the network it was learned from.
+            col = box.column(align=True)
+            for rule in parsed.rules[:MAX_LISTED_RULES]:
+                split = col.split(factor=0.3, align=True)
+                split.label(text="{} ({})".format(rule["name"], rule["symbol"]))
+                split.label(text="{} v, {} e, {} emb, {} uses".format(
+                    rule["vertices"], rule["edges"], rule["embedding_points"], rule["uses"]))
+            if len(parsed.rules) > MAX_LISTED_RULES:
+                box.label(text="... and {} more rules".format(len(parsed.rules) - MAX_LISTED_RULES))
+
+        layout.operator(ROADS_OT_add_axiom.bl_idname, icon='OUTLINER_OB_MESH')
+
+        box = layout.box()
+        box.label(text="Place at the 3D Cursor", icon='PIVOT_CURSOR')
+        col = box.column(align=True)
+        col.prop(settings, "rule", text="")
+        col.prop(settings, "scale")
+        op = box.operator(ROADS_OT_place_rule.bl_idname, icon='EMPTY_SINGLE_ARROW')
+        if settings.rule not in ('', 'NONE'):
+            op.rule = settings.rule
+        op.scale = settings.scale
+
+        box = layout.box()
+        graph = road_graph_object(context.active_object)
+        box.label(text="Grow {}".format(graph.name) if graph is not None else "Grow (select a road graph)",
+                  icon='FORCE_CURVE')
+        col = box.column(align=True)
+        col.prop(settings, "steps")
+        col.prop(settings, "max_vertices")
+        row = box.row(align=True)
+        row.prop(settings, "tolerance_unit", expand=True)
+        box.prop(settings, "tolerance" if settings.tolerance_unit == 'RELATIVE' else "tolerance_m")
+        box.prop(settings, "strict")
+        row = box.row()
+        row.enabled = graph is not None
+        op = row.operator(ROADS_OT_grow.bl_idname, icon='PLAY')
+        for name in ROADS_OT_grow._FROM_SETTINGS:
+            setattr(op, name, getattr(settings, name))
 
 
 def _wrapped_labels(layout, text, width=48):

@@ -5,18 +5,21 @@ attribute, the group's inputs or the material, and the surface follows)."""
 import bpy
 import numpy as np
 
+from . import native
+
 NODE_GROUP_NAME = "Road Surface"
 MATERIAL_NAME = "Road Surface"
 # Bumped when the node group or material built here changes; older ones are not reused.
 NODE_GROUP_VERSION = 1
 MATERIAL_VERSION = 1
 MARKER = "road_grammar_version"
+# The lowest importance rank a node group or material was made for.
+RANK_MARKER = "road_grammar_lowest_rank"
 
-# Importance ranks run from 1 (motorway) to this (other); see ggg's Graph.edge_rank.
-LOWEST_RANK = 12
-
-# Surface colour per rank 1..12 (linear RGB), after the usual map styles: motorway red,
-# trunk orange, primary amber, secondary yellow, minor roads light grey, paths tan.
+# Surface colour per importance rank 1, 2, ... (linear RGB), after the usual map styles:
+# motorway red, trunk orange, primary amber, secondary yellow, minor roads light grey,
+# paths tan. The ranks themselves come from the native library (ggg.highway_ranks());
+# ranks past the end of this table take its last colour.
 RANK_COLORS = (
     (0.80, 0.22, 0.20),  # 1 motorway
     (0.90, 0.40, 0.16),  # 2 trunk, motorway links
@@ -31,6 +34,15 @@ RANK_COLORS = (
     (0.45, 0.36, 0.30),  # 11 footway, cycleway, path, steps
     (0.40, 0.40, 0.40),  # 12 other
 )
+
+
+def lowest_rank():
+    """The largest (least important) rank of the native library's highway classes."""
+    return int(max(native.load().highway_ranks()))
+
+
+def rank_color(rank):
+    return RANK_COLORS[min(max(int(rank), 1), len(RANK_COLORS)) - 1]
 
 
 def road_widths(highway, width_tag, lanes, class_widths, lane_width):
@@ -87,17 +99,19 @@ def _math(nodes, operation, location, value=None):
     return node
 
 
-def _is_current(datablock, version):
-    return datablock is not None and datablock.get(MARKER) == version
+def _is_current(datablock, version, lowest):
+    return datablock is not None and datablock.get(MARKER) == version and datablock.get(RANK_MARKER) == lowest
 
 
 def node_group():
     """The shared "Road Surface" node group, created on first use."""
+    lowest = lowest_rank()
     for group in bpy.data.node_groups:
-        if group.bl_idname == 'GeometryNodeTree' and _is_current(group, NODE_GROUP_VERSION):
+        if group.bl_idname == 'GeometryNodeTree' and _is_current(group, NODE_GROUP_VERSION, lowest):
             return group
     tree = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
     tree[MARKER] = NODE_GROUP_VERSION
+    tree[RANK_MARKER] = lowest
     _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")
     scale = _new_socket(tree, 'INPUT', 'NodeSocketFloat', "Width Scale")
     scale.default_value, scale.min_value, scale.max_value = 1.0, 0.0, 10.0
@@ -127,11 +141,11 @@ def node_group():
     radius = nodes.new('GeometryNodeSetCurveRadius')
     radius.location = (-300, 0)
 
-    # Important roads slightly above minor ones: z = step * (LOWEST_RANK - rank), so that
+    # Important roads slightly above minor ones: z = step * (lowest rank - rank), so that
     # overlapping ribbons at crossings do not flicker and the main road is drawn on top.
     rank = _named_float(nodes, "rank", (-500, -450))
     lift = _math(nodes, 'SUBTRACT', (-300, -450))
-    lift.inputs[0].default_value = float(LOWEST_RANK)
+    lift.inputs[0].default_value = float(lowest)
     links.new(_enabled_output(rank), lift.inputs[1])
     lift_clamped = _math(nodes, 'MAXIMUM', (-150, -450), 0.0)
     lift_height = _math(nodes, 'MULTIPLY', (0, -450))
@@ -177,13 +191,15 @@ def node_group():
 
 def material():
     """The shared "Road Surface" material: colour by road importance (`rank` attribute)."""
+    lowest = lowest_rank()
     for existing in bpy.data.materials:
-        if _is_current(existing, MATERIAL_VERSION):
+        if _is_current(existing, MATERIAL_VERSION, lowest):
             return existing
     mat = bpy.data.materials.new(MATERIAL_NAME)
     mat[MARKER] = MATERIAL_VERSION
+    mat[RANK_MARKER] = lowest
     mat.use_nodes = True
-    mat.diffuse_color = (*RANK_COLORS[6], 1.0)  # solid view and Workbench
+    mat.diffuse_color = (*rank_color(7), 1.0)  # solid view and Workbench: a minor road
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     bsdf = nodes.get("Principled BSDF")
     bsdf.inputs["Roughness"].default_value = 0.8
@@ -193,20 +209,20 @@ def material():
     attribute.location = (-900, 300)
     to_fraction = nodes.new('ShaderNodeMath')
     to_fraction.operation = 'DIVIDE'
-    to_fraction.inputs[1].default_value = float(LOWEST_RANK)
+    to_fraction.inputs[1].default_value = float(lowest)
     to_fraction.location = (-700, 300)
     ramp = nodes.new('ShaderNodeValToRGB')
     ramp.location = (-500, 300)
     ramp.color_ramp.interpolation = 'CONSTANT'
     elements = ramp.color_ramp.elements
-    # Element k covers fractions from (k - 0.5) / LOWEST_RANK, so rank k / LOWEST_RANK hits it.
+    # Element k covers fractions from (k - 0.5) / lowest, so rank k / lowest hits it.
     elements[0].position = 0.0
-    elements[0].color = (*RANK_COLORS[0], 1.0)
-    elements[1].position = 1.5 / LOWEST_RANK
-    elements[1].color = (*RANK_COLORS[1], 1.0)
-    for k, color in enumerate(RANK_COLORS[2:], start=3):
-        element = elements.new((k - 0.5) / LOWEST_RANK)
-        element.color = (*color, 1.0)
+    elements[0].color = (*rank_color(1), 1.0)
+    elements[1].position = 1.5 / lowest
+    elements[1].color = (*rank_color(2), 1.0)
+    for k in range(3, lowest + 1):
+        element = elements.new((k - 0.5) / lowest)
+        element.color = (*rank_color(k), 1.0)
     links.new(attribute.outputs["Fac"], to_fraction.inputs[0])
     links.new(to_fraction.outputs[0], ramp.inputs["Fac"])
     links.new(ramp.outputs["Color"], bsdf.inputs["Base Color"])

@@ -1,0 +1,195 @@
+"""The scene's grammar: a Text datablock holding a grammar file (ggg-grammar JSON, see
+docs/file-formats.md), so that it is saved inside the .blend, and the scene settings of
+the grammar operators (scene.road_grammar).
+
+The text is parsed by the native module (ggg.parse_grammar) when it is used; the last
+parse is cached by content, so the sidebar and the rule menus do not parse on every redraw,
+and an edit of the text in the Text Editor is seen at once.
+"""
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
+from bpy.types import PropertyGroup
+
+from . import native
+
+# Custom property of a grammar Text: the file it was loaded from.
+SOURCE_KEY = "road_grammar_source"
+
+DEFAULT_SCALE = 100.0
+DEFAULT_STEPS = 1
+DEFAULT_MAX_VERTICES = 1_000_000
+DEFAULT_TOLERANCE = 0.05
+DEFAULT_TOLERANCE_M = 1.0
+
+
+class GrammarUnavailable(Exception):
+    """No grammar can be used: none is loaded, or its text does not parse. The message
+    says which."""
+
+
+_cache = {"key": None, "result": None}
+
+
+def parse_text(text):
+    """The ggg.Grammar of a Text datablock; raises ggg.GrammarError (or NativeModuleError)."""
+    ggg = native.load()
+    content = text.as_string()
+    key = (text.name_full, content)
+    if _cache["key"] == key:
+        result = _cache["result"]
+    else:
+        try:
+            result = ggg.parse_grammar(content, text.name_full)
+        except ggg.Error as ex:
+            result = ex
+        _cache["key"], _cache["result"] = key, result
+    if isinstance(result, Exception):
+        raise result
+    return result
+
+
+def active_text(context):
+    settings = getattr(context.scene, "road_grammar", None)
+    return settings.text if settings is not None else None
+
+
+def active(context):
+    """(Text, ggg.Grammar) of the scene's active grammar; raises GrammarUnavailable or
+    native.NativeModuleError."""
+    text = active_text(context)
+    if text is None:
+        raise GrammarUnavailable("No grammar in this scene: load one (Roads sidebar > Grammar > Load)")
+    ggg = native.load()
+    try:
+        return text, parse_text(text)
+    except ggg.Error as ex:
+        raise GrammarUnavailable("The grammar text '{}' is not a valid grammar: {}".format(text.name, ex)) from ex
+
+
+def try_active(context):
+    """(Text or None, grammar or None, message or None), for drawing: never raises."""
+    try:
+        text, parsed = active(context)
+        return text, parsed, None
+    except (GrammarUnavailable, native.NativeModuleError) as ex:
+        return active_text(context), None, str(ex)
+
+
+def rule_of(parsed, identifier):
+    """The rule dict whose symbol name (or number) is ``identifier``, else None."""
+    for rule in parsed.rules:
+        if rule["name"] == identifier or str(rule["symbol"]) == identifier:
+            return rule
+    return None
+
+
+def describe_rule(rule):
+    return "{} -> {} vertices, {} edges, {} nonterminals, {} embedding points".format(
+        rule["name"], rule["vertices"], rule["edges"], rule["nonterminals"], rule["embedding_points"])
+
+
+# Blender needs the strings of dynamic enum items to stay alive while it shows them.
+_rule_items = []
+
+
+def rule_items(_self, context):
+    """Enum items of the active grammar's rules: (symbol name, "name (k)", description)."""
+    items = []
+    _text, parsed, _message = try_active(context) if context is not None else (None, None, None)
+    if parsed is not None:
+        # Values by position, so that the default (0) is the first rule of any grammar.
+        for index, rule in enumerate(parsed.rules):
+            items.append((rule["name"], "{} ({})".format(rule["name"], rule["symbol"]), describe_rule(rule), index))
+    if not items:
+        items.append(('NONE', "No Rules", "Load a grammar first", 0))
+    _rule_items[:] = items
+    return _rule_items
+
+
+TOLERANCE_ITEMS = (
+    ('RELATIVE', "Relative", "Tolerance as a fraction of the scale of the vertex being rewritten"),
+    ('METRES', "Metres", "Tolerance as a distance in metres"),
+)
+
+
+def _text_poll(_self, text):
+    return not text.name.startswith(".")
+
+
+class ROADS_PG_grammar(PropertyGroup):
+    """The scene's grammar and the settings of the grammar operators (Roads sidebar)."""
+
+    text: PointerProperty(
+        name="Grammar",
+        type=bpy.types.Text,
+        description="Text holding the active grammar (a ggg-grammar JSON file, kept in the .blend)",
+        poll=_text_poll,
+    )
+    rule: EnumProperty(
+        name="Rule",
+        description="Rule whose nonterminal Place Rule puts at the 3D cursor",
+        items=rule_items,
+    )
+    scale: FloatProperty(
+        name="Scale",
+        description="Metres for one unit of the rule: the scale of the placed nonterminal's frame",
+        default=DEFAULT_SCALE,
+        min=1e-3,
+        soft_min=1.0,
+        soft_max=5000.0,
+        unit='LENGTH',
+        subtype='DISTANCE',
+    )
+    steps: IntProperty(
+        name="Steps",
+        description="Derivation steps: each rewrites every nonterminal at once",
+        default=DEFAULT_STEPS,
+        min=1,
+        soft_max=10,
+    )
+    max_vertices: IntProperty(
+        name="Max Vertices",
+        description="Vertex budget: a step that would make the graph larger is not applied",
+        default=DEFAULT_MAX_VERTICES,
+        min=1,
+    )
+    tolerance_unit: EnumProperty(
+        name="Tolerance",
+        description="How the embedding tolerance is given",
+        items=TOLERANCE_ITEMS,
+        default='RELATIVE',
+    )
+    tolerance: FloatProperty(
+        name="Tolerance",
+        description="Embedding points connect to (and placed vertices merge with) vertices this "
+        "close, as a fraction of the rewritten vertex's scale",
+        default=DEFAULT_TOLERANCE,
+        min=0.0,
+        soft_max=0.5,
+        precision=3,
+    )
+    tolerance_m: FloatProperty(
+        name="Tolerance",
+        description="Embedding points connect to (and placed vertices merge with) vertices this "
+        "close, in metres",
+        default=DEFAULT_TOLERANCE_M,
+        min=0.0,
+        soft_max=100.0,
+        unit='LENGTH',
+        subtype='DISTANCE',
+    )
+    strict: BoolProperty(
+        name="Strict Embedding",
+        description="Rewrite a nonterminal only when every embedding point finds a vertex to connect "
+        "to (off: relaxed embedding, paper 3.3)",
+        default=False,
+    )
+
+
+def register():
+    bpy.types.Scene.road_grammar = PointerProperty(type=ROADS_PG_grammar)
+
+
+def unregister():
+    del bpy.types.Scene.road_grammar
