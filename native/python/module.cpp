@@ -102,22 +102,45 @@ ggg::GeometricGraph read_graph(const std::string& path, const std::string& highw
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using IntArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
 
+// Optional per-edge columns of Graph.from_arrays, each (M,) or None.
+struct EdgeColumns {
+    std::optional<IntArray> highway, lanes, oneway, way_ids;
+    std::optional<DoubleArray> width;
+    std::optional<std::vector<std::string>> names;
+    std::optional<std::pair<IntArray, DoubleArray>> geometry; // (offsets (M+1,), points (P,2))
+};
+
 ggg::GeometricGraph graph_from_arrays(const DoubleArray& positions, const IntArray& edges, std::pair<double, double> origin_latlon,
                                       std::optional<IntArray> symbols, std::optional<DoubleArray> frames,
-                                      std::optional<IntArray> highway) {
+                                      std::optional<IntArray> osm_ids, const EdgeColumns& columns) {
+    const auto& highway = columns.highway;
     if (positions.ndim() != 2 || positions.shape(1) != 2) throw ggg::UsageError("positions must have shape (N, 2)");
     if (edges.ndim() != 2 || edges.shape(1) != 2) throw ggg::UsageError("edges must have shape (M, 2)");
     const py::ssize_t n = positions.shape(0);
     const py::ssize_t m = edges.shape(0);
     if (symbols && (symbols->ndim() != 1 || symbols->shape(0) != n)) throw ggg::UsageError("vertex_symbols must have shape (N,)");
     if (frames && (frames->ndim() != 2 || frames->shape(0) != n || frames->shape(1) != 4)) throw ggg::UsageError("vertex_frames must have shape (N, 4)");
-    if (highway && (highway->ndim() != 1 || highway->shape(0) != m)) throw ggg::UsageError("edge_highway must have shape (M,)");
+    auto check_column = [&](const auto& column, const char* name) {
+        if (column && (column->ndim() != 1 || column->shape(0) != m)) throw ggg::UsageError(std::string(name) + " must have shape (M,)");
+    };
+    check_column(highway, "edge_highway");
+    check_column(columns.lanes, "edge_lanes");
+    check_column(columns.oneway, "edge_oneway");
+    check_column(columns.way_ids, "edge_way_ids");
+    check_column(columns.width, "edge_width");
+    if (columns.names && static_cast<py::ssize_t>(columns.names->size()) != m) throw ggg::UsageError("edge_names must have M entries");
+    if (osm_ids && (osm_ids->ndim() != 1 || osm_ids->shape(0) != n)) throw ggg::UsageError("vertex_osm_ids must have shape (N,)");
+    if (columns.geometry) {
+        const auto& [offsets, points] = *columns.geometry;
+        if (offsets.ndim() != 1 || offsets.shape(0) != m + 1) throw ggg::UsageError("edge_geometry offsets must have shape (M+1,)");
+        if (points.ndim() != 2 || points.shape(1) != 2) throw ggg::UsageError("edge_geometry points must have shape (P, 2)");
+    }
     ggg::GeometricGraph g;
     g.origin = {origin_latlon.first, origin_latlon.second};
     const auto p = positions.unchecked<2>();
     for (py::ssize_t i = 0; i < n; ++i) {
         if (!std::isfinite(p(i, 0)) || !std::isfinite(p(i, 1))) throw ggg::InputError("positions[" + std::to_string(i) + "] is not finite");
-        g.add_vertex({p(i, 0), p(i, 1)});
+        g.add_vertex({p(i, 0), p(i, 1)}, osm_ids ? osm_ids->at(i) : 0);
         if (symbols) {
             const auto s = symbols->at(i);
             if (s < 0) throw ggg::InputError("vertex_symbols[" + std::to_string(i) + "] is negative");
@@ -137,12 +160,44 @@ ggg::GeometricGraph graph_from_arrays(const DoubleArray& positions, const IntArr
         const auto u = e(i, 0), v = e(i, 1);
         if (u < 0 || v < 0 || u >= n || v >= n) throw ggg::InputError("edges[" + std::to_string(i) + "] refers to a vertex out of range");
         ggg::EdgeAttributes a{ggg::HighwayClass::road};
+        const std::string at = "[" + std::to_string(i) + "]";
         if (highway) {
             const auto c = highway->at(i);
-            if (c < 0 || c >= ggg::highway_class_count) throw ggg::InputError("edge_highway[" + std::to_string(i) + "] is not a class code");
+            if (c < 0 || c >= ggg::highway_class_count) throw ggg::InputError("edge_highway" + at + " is not a class code");
             a.highway = static_cast<ggg::HighwayClass>(c);
         }
-        g.add_edge(static_cast<ggg::VertexId>(u), static_cast<ggg::VertexId>(v), a);
+        if (columns.lanes) {
+            const auto lanes = columns.lanes->at(i);
+            if (lanes < 0 || lanes > 50) throw ggg::InputError("edge_lanes" + at + " must be in [0, 50]");
+            a.lanes = static_cast<std::int16_t>(lanes);
+        }
+        if (columns.oneway) {
+            const auto oneway = columns.oneway->at(i);
+            if (oneway < -1 || oneway > 1) throw ggg::InputError("edge_oneway" + at + " must be -1, 0 or 1");
+            a.oneway = static_cast<std::int8_t>(oneway);
+        }
+        if (columns.way_ids) a.way_id = columns.way_ids->at(i);
+        if (columns.width) {
+            const double w = columns.width->at(i);
+            if (!std::isnan(w) && !(w > 0 && std::isfinite(w))) throw ggg::InputError("edge_width" + at + " must be > 0 or NaN");
+            a.width_m = w;
+        }
+        if (columns.names) a.name = (*columns.names)[static_cast<std::size_t>(i)];
+        std::vector<ggg::Vec2> line;
+        if (columns.geometry) {
+            const auto& [offsets, points] = *columns.geometry;
+            const auto begin = offsets.at(i), end = offsets.at(i + 1);
+            if (begin < 0 || end < begin + 2 || end > points.shape(0)) throw ggg::InputError("edge_geometry offsets" + at + " are out of range");
+            const auto pts = points.unchecked<2>();
+            for (auto k = begin; k < end; ++k) line.emplace_back(pts(k, 0), pts(k, 1));
+            if ((line.front() - g.positions[static_cast<std::size_t>(u)]).norm() > 1e-6 ||
+                (line.back() - g.positions[static_cast<std::size_t>(v)]).norm() > 1e-6) {
+                throw ggg::InputError("edge_geometry" + at + " does not start and end at the edge's vertices");
+            }
+            line.front() = g.positions[static_cast<std::size_t>(u)];
+            line.back() = g.positions[static_cast<std::size_t>(v)];
+        }
+        g.add_edge(static_cast<ggg::VertexId>(u), static_cast<ggg::VertexId>(v), a, line);
     }
     return g;
 }
@@ -200,6 +255,7 @@ py::tuple derive(const ggg::Grammar& grammar, std::optional<ggg::GeometricGraph>
     r["missed_embeddings"] = report.totals.missed_embeddings;
     r["merged_vertices"] = report.totals.merged_vertices;
     r["nothing_to_rewrite"] = report.nothing_to_rewrite;
+    r["source_vertex"] = column(report.source_vertex);
     return py::make_tuple(std::move(graph), r);
 }
 
@@ -250,11 +306,25 @@ PYBIND11_MODULE(ggg, m) {
     }, "Default paved width in metres per highway class.");
 
     py::class_<ggg::GeometricGraph>(m, "Graph", "A road graph: vertices in metres of a local frame, edges with road attributes")
-        .def_static("from_arrays", &graph_from_arrays, py::arg("positions"), py::arg("edges"),
-                    py::arg("origin_latlon") = std::pair<double, double>{0.0, 0.0}, py::arg("vertex_symbols") = py::none(),
-                    py::arg("vertex_frames") = py::none(), py::arg("edge_highway") = py::none(),
-                    "A graph from (N,2) positions in metres and (M,2) vertex index pairs; optionally per-vertex\n"
-                    "symbols (N,), frames (N,4: a, b, tx, ty) and per-edge highway class codes (M,), else 'road'.")
+        .def_static("from_arrays",
+                    [](const DoubleArray& positions, const IntArray& edges, std::pair<double, double> origin_latlon,
+                       std::optional<IntArray> symbols, std::optional<DoubleArray> frames, std::optional<IntArray> osm_ids,
+                       std::optional<IntArray> highway, std::optional<DoubleArray> width, std::optional<IntArray> lanes,
+                       std::optional<IntArray> oneway, std::optional<IntArray> way_ids, std::optional<std::vector<std::string>> names,
+                       std::optional<std::pair<IntArray, DoubleArray>> geometry) {
+                        return graph_from_arrays(positions, edges, origin_latlon, std::move(symbols), std::move(frames), std::move(osm_ids),
+                                                 EdgeColumns{std::move(highway), std::move(lanes), std::move(oneway), std::move(way_ids),
+                                                             std::move(width), std::move(names), std::move(geometry)});
+                    },
+                    py::arg("positions"), py::arg("edges"), py::arg("origin_latlon") = std::pair<double, double>{0.0, 0.0},
+                    py::arg("vertex_symbols") = py::none(), py::arg("vertex_frames") = py::none(), py::arg("vertex_osm_ids") = py::none(),
+                    py::arg("edge_highway") = py::none(), py::arg("edge_width") = py::none(), py::arg("edge_lanes") = py::none(),
+                    py::arg("edge_oneway") = py::none(), py::arg("edge_way_ids") = py::none(), py::arg("edge_names") = py::none(),
+                    py::arg("edge_geometry") = py::none(),
+                    "A graph from (N,2) positions in metres and (M,2) vertex index pairs. Optional columns as the Graph\n"
+                    "properties of the same names: vertex_symbols (N,), vertex_frames (N,4), vertex_osm_ids (N,),\n"
+                    "edge_highway (M,) (else 'road'), edge_width (M,) (NaN = untagged), edge_lanes, edge_oneway,\n"
+                    "edge_way_ids (M,), edge_names (M strings), edge_geometry (offsets (M+1,), points (P,2)).")
         .def_property_readonly("vertex_symbols", [](const ggg::GeometricGraph& g) { return column(g.symbols); })
         .def_property_readonly("vertex_frames", [](const ggg::GeometricGraph& g) {
             py::array_t<double> out({static_cast<py::ssize_t>(g.vertex_count()), py::ssize_t{4}});

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <unordered_set>
 
 #include <boost/geometry.hpp>
@@ -56,6 +57,15 @@ public:
     }
 
     VertexId survivor_count() const { return survivors_; }
+
+    // Old vertex of each vertex of the graph being built (-1 for placed ones).
+    std::vector<VertexId> sources() const {
+        std::vector<VertexId> out(next_.vertex_count(), -1);
+        for (std::size_t v = 0; v < new_id_.size(); ++v) {
+            if (new_id_[v] >= 0) out[static_cast<std::size_t>(new_id_[v])] = static_cast<VertexId>(v);
+        }
+        return out;
+    }
 
     // The nearest vertex within `tolerance` of p that passes `accept`, or -1.
     template <typename Accept>
@@ -156,7 +166,8 @@ VertexId place_nonterminal(GeometricGraph& graph, Symbol symbol, const Vec2& pos
     return id;
 }
 
-bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions& options, StepReport* report_out, bool* over_budget) {
+bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions& options, StepReport* report_out, bool* over_budget,
+                 std::vector<VertexId>* source) {
     StepReport report;
     if (over_budget) *over_budget = false;
     const std::size_t n = g.vertex_count();
@@ -241,6 +252,7 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
         }
     }
     report.rewrites = rewrites.size();
+    if (source) *source = builder.sources();
     g = builder.take();
     if (report_out) *report_out = report;
     return true;
@@ -251,6 +263,9 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
     if (options.max_steps < 0) throw UsageError("the number of steps must be >= 0");
     if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance)) throw UsageError("the tolerance must be a finite number >= 0");
     DeriveReport result;
+    result.source_vertex.resize(g.vertex_count());
+    std::iota(result.source_vertex.begin(), result.source_vertex.end(), 0);
+    std::vector<VertexId> step_source;
     for (int step = 0; step < options.max_steps; ++step) {
         report(progress, static_cast<double>(step) / options.max_steps, "derivation step " + std::to_string(step + 1));
         StepReport s;
@@ -260,13 +275,18 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
         const std::vector<Symbol> symbols_before = g.symbols;
         const std::vector<Similarity2> frames_before = g.frames;
         const std::vector<std::array<VertexId, 2>> edges_before = g.edges;
-        if (!derive_step(g, grammar, options, &s, &over_budget)) {
+        if (!derive_step(g, grammar, options, &s, &over_budget, &step_source)) {
             result.stopped_by_budget = over_budget;
             result.nothing_to_rewrite = !over_budget;
             result.totals.refused += s.refused;
             break;
         }
         ++result.steps;
+        std::vector<VertexId> composed(step_source.size(), -1);
+        for (std::size_t v = 0; v < step_source.size(); ++v) {
+            if (step_source[v] >= 0) composed[v] = result.source_vertex[static_cast<std::size_t>(step_source[v])];
+        }
+        result.source_vertex.swap(composed);
         result.totals.rewrites += s.rewrites;
         result.totals.refused += s.refused;
         result.totals.embedding_edges += s.embedding_edges;

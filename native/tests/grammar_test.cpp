@@ -281,6 +281,33 @@ TEST(Derivation, AStepThatOnlyMovesAFrameOrAnEdgeIsNotAFixedPoint) {
     EXPECT_EQ(report.steps, 3);
 }
 
+TEST(Derivation, SourceVerticesTellWhereEachVertexCameFrom) {
+    // A street of three vertices plus one nonterminal: after growing, the street's vertices
+    // are found again through source_vertex, the placed ones have -1.
+    const Grammar g = sierpinski();
+    GeometricGraph host;
+    const VertexId a = host.add_vertex({5000, 0});
+    const VertexId b = host.add_vertex({5100, 0});
+    const VertexId c = host.add_vertex({5200, 0});
+    host.add_edge(a, b, {});
+    host.add_edge(b, c, {});
+    place_nonterminal(host, 1, {0, 0}, {1000.0, 0.0});
+    const GeometricGraph before = host;
+    DeriveOptions options;
+    options.max_steps = 2;
+    const DeriveReport report = derive(host, g, options);
+    ASSERT_EQ(report.source_vertex.size(), host.vertex_count());
+    std::size_t kept = 0;
+    for (std::size_t v = 0; v < host.vertex_count(); ++v) {
+        const VertexId s = report.source_vertex[v];
+        if (s < 0) continue;
+        ++kept;
+        EXPECT_EQ(host.positions[v], before.positions[static_cast<std::size_t>(s)]);
+    }
+    EXPECT_EQ(kept, 3u); // the street; the nonterminal was rewritten away
+    EXPECT_EQ(host.vertex_count(), 3u + 9u); // one P becomes 3, then 9
+}
+
 TEST(Derivation, SameInputSameOutput) {
     const Grammar g = sierpinski();
     GeometricGraph a = g.axiom_graph(), b = g.axiom_graph();

@@ -11,6 +11,7 @@
 // frame); otherwise both stay, since each stands for its own pending rewrite.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "ggg/geometric_graph.hpp"
 #include "ggg/grammar.hpp"
@@ -45,12 +46,17 @@ struct DeriveReport {
     bool nothing_to_rewrite = false;
     bool converged = false;         // a step changed nothing (e.g. P -> P), so no later one would
     StepReport totals;
+    // For each vertex of the result, the vertex of the input graph it is (-1 for a vertex a
+    // rule placed), so callers can carry their own per-vertex data across a derivation.
+    std::vector<VertexId> source_vertex;
 };
 
 // One step on `graph` in place. Returns false and leaves the graph unchanged when the
 // step would pass `options.max_vertices` (or nothing can be rewritten).
+// `source`, when given, receives for each vertex of the new graph the vertex of the old one
+// it is, or -1 for a placed vertex.
 bool derive_step(GeometricGraph& graph, const Grammar& grammar, const DeriveOptions& options, StepReport* report = nullptr,
-                 bool* over_budget = nullptr);
+                 bool* over_budget = nullptr, std::vector<VertexId>* source = nullptr);
 
 // Up to options.max_steps steps from `graph` (the axiom, or a road network to grow).
 DeriveReport derive(GeometricGraph& graph, const Grammar& grammar, const DeriveOptions& options,
