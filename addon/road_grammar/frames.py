@@ -11,7 +11,7 @@ mesh (placing a rule, growing, editing) and renders like any geometry.
 
 import bpy
 
-from .surface import _enabled_output, _input_sockets, _math, _new_socket, _named_float
+from .surface import _enabled_output, _input_sockets, _math, _named_float, _new_geometry_group
 
 NODE_GROUP_NAME = "Rule Frames"
 MATERIAL_NAME = "Rule Frame"
@@ -70,21 +70,10 @@ def node_group():
     for group in bpy.data.node_groups:
         if group.bl_idname == 'GeometryNodeTree' and _is_current(group, NODE_GROUP_VERSION):
             return group
-    tree = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
-    tree[MARKER] = NODE_GROUP_VERSION
-    _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")
-    size = _new_socket(tree, 'INPUT', 'NodeSocketFloat', "Arrow Size")
-    size.default_value, size.min_value, size.max_value = 0.3, 0.0, 10.0
-    height = _new_socket(tree, 'INPUT', 'NodeSocketFloat', "Height")
-    height.default_value, height.min_value, height.max_value = 0.5, -1000.0, 1000.0
-    _new_socket(tree, 'INPUT', 'NodeSocketMaterial', "Material")
-    _new_socket(tree, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
-
+    tree, group_in, group_out = _new_geometry_group(
+        NODE_GROUP_NAME, {MARKER: NODE_GROUP_VERSION},
+        (("Arrow Size", 0.3, 0.0, 10.0), ("Height", 0.5, -1000.0, 1000.0)), io_x=1000)
     nodes, links = tree.nodes, tree.links
-    group_in = nodes.new('NodeGroupInput')
-    group_in.location = (-1000, 0)
-    group_out = nodes.new('NodeGroupOutput')
-    group_out.location = (1000, 0)
 
     # Selection: nonterminal vertices (symbol > 0).
     symbol = _named_float(nodes, "symbol", (-800, -100))

@@ -113,6 +113,93 @@ TOLERANCE_ITEMS = (
 )
 
 
+# The settings of Place Rule and Grow, declared once here for both the scene
+# (ROADS_PG_grammar below) and the operators (grammar_ops), which take the scene's values
+# when invoked. Each call makes a new property; the arguments are the labels and
+# descriptions in which the two differ.
+
+def rule_property(description):
+    return EnumProperty(
+        name="Rule",
+        description=description,
+        items=rule_items,
+    )
+
+
+def scale_property(description):
+    return FloatProperty(
+        name="Scale",
+        description=description,
+        default=DEFAULT_SCALE,
+        min=1e-3,
+        soft_min=1.0,
+        soft_max=5000.0,
+        unit='LENGTH',
+        subtype='DISTANCE',
+    )
+
+
+def steps_property():
+    return IntProperty(
+        name="Steps",
+        description="Derivation steps: each rewrites every nonterminal at once",
+        default=DEFAULT_STEPS,
+        min=1,
+        soft_max=10,
+    )
+
+
+def max_vertices_property():
+    return IntProperty(
+        name="Max Vertices",
+        description="Vertex budget: a step that would make the graph larger is not applied",
+        default=DEFAULT_MAX_VERTICES,
+        min=1,
+    )
+
+
+def tolerance_unit_property(name):
+    return EnumProperty(
+        name=name,
+        description="How the embedding tolerance is given",
+        items=TOLERANCE_ITEMS,
+        default='RELATIVE',
+    )
+
+
+def tolerance_property():
+    return FloatProperty(
+        name="Tolerance",
+        description="Embedding points connect to (and placed vertices merge with) vertices this "
+        "close, as a fraction of the rewritten vertex's scale",
+        default=DEFAULT_TOLERANCE,
+        min=0.0,
+        soft_max=0.5,
+        precision=3,
+    )
+
+
+def tolerance_m_property(name):
+    return FloatProperty(
+        name=name,
+        description="Embedding points connect to (and placed vertices merge with) vertices this "
+        "close, in metres",
+        default=DEFAULT_TOLERANCE_M,
+        min=0.0,
+        soft_max=100.0,
+        unit='LENGTH',
+        subtype='DISTANCE',
+    )
+
+
+def strict_property(description):
+    return BoolProperty(
+        name="Strict Embedding",
+        description=description,
+        default=False,
+    )
+
+
 def _text_poll(_self, text):
     return not text.name.startswith(".")
 
@@ -126,65 +213,15 @@ class ROADS_PG_grammar(PropertyGroup):
         description="Text holding the active grammar (a ggg-grammar JSON file, kept in the .blend)",
         poll=_text_poll,
     )
-    rule: EnumProperty(
-        name="Rule",
-        description="Rule whose nonterminal Place Rule puts at the 3D cursor",
-        items=rule_items,
-    )
-    scale: FloatProperty(
-        name="Scale",
-        description="Metres for one unit of the rule: the scale of the placed nonterminal's frame",
-        default=DEFAULT_SCALE,
-        min=1e-3,
-        soft_min=1.0,
-        soft_max=5000.0,
-        unit='LENGTH',
-        subtype='DISTANCE',
-    )
-    steps: IntProperty(
-        name="Steps",
-        description="Derivation steps: each rewrites every nonterminal at once",
-        default=DEFAULT_STEPS,
-        min=1,
-        soft_max=10,
-    )
-    max_vertices: IntProperty(
-        name="Max Vertices",
-        description="Vertex budget: a step that would make the graph larger is not applied",
-        default=DEFAULT_MAX_VERTICES,
-        min=1,
-    )
-    tolerance_unit: EnumProperty(
-        name="Tolerance",
-        description="How the embedding tolerance is given",
-        items=TOLERANCE_ITEMS,
-        default='RELATIVE',
-    )
-    tolerance: FloatProperty(
-        name="Tolerance",
-        description="Embedding points connect to (and placed vertices merge with) vertices this "
-        "close, as a fraction of the rewritten vertex's scale",
-        default=DEFAULT_TOLERANCE,
-        min=0.0,
-        soft_max=0.5,
-        precision=3,
-    )
-    tolerance_m: FloatProperty(
-        name="Tolerance",
-        description="Embedding points connect to (and placed vertices merge with) vertices this "
-        "close, in metres",
-        default=DEFAULT_TOLERANCE_M,
-        min=0.0,
-        soft_max=100.0,
-        unit='LENGTH',
-        subtype='DISTANCE',
-    )
-    strict: BoolProperty(
-        name="Strict Embedding",
-        description="Rewrite a nonterminal only when every embedding point finds a vertex to connect "
-        "to (off: relaxed embedding, paper 3.3)",
-        default=False,
-    )
+    rule: rule_property("Rule whose nonterminal Place Rule puts at the 3D cursor")
+    scale: scale_property("Metres for one unit of the rule: the scale of the placed nonterminal's frame")
+    steps: steps_property()
+    max_vertices: max_vertices_property()
+    tolerance_unit: tolerance_unit_property("Tolerance")
+    tolerance: tolerance_property()
+    tolerance_m: tolerance_m_property("Tolerance")
+    strict: strict_property("Rewrite a nonterminal only when every embedding point finds a vertex to connect "
+                            "to (off: relaxed embedding, paper 3.3)")
 
 
 def register():

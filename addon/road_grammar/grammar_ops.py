@@ -6,14 +6,14 @@ import math
 import os
 
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import StringProperty
 from bpy.types import Operator
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 from mathutils import Vector
 
 import numpy as np
 
-from . import georef, grammar, graph_edit, importer, native, preferences, surface
+from . import georef, grammar, graph_edit, importer, native, operators, preferences, surface
 
 
 def _grammar_or_report(op, context):
@@ -52,15 +52,11 @@ class ROADS_OT_load_grammar(Operator, ImportHelper):
     filter_glob: StringProperty(default="*.json", options={'HIDDEN'})
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
-        if not os.path.isfile(path):
-            problem = "is a folder, not a file" if os.path.isdir(path) else "no such file"
-            self.report({'ERROR'}, "{}: {}".format(path or "(no file given)", problem))
+        path = operators.input_file_or_report(self)
+        if path is None:
             return {'CANCELLED'}
-        try:
-            ggg = native.load()
-        except native.NativeModuleError as ex:
-            self.report({'ERROR'}, str(ex))
+        ggg = native.load_or_report(self)
+        if ggg is None:
             return {'CANCELLED'}
         try:
             parsed = ggg.read_grammar(path)
@@ -173,21 +169,8 @@ class ROADS_OT_place_rule(Operator):
     bl_label = "Place Rule"
     bl_options = {'REGISTER', 'UNDO'}
 
-    rule: EnumProperty(
-        name="Rule",
-        description="Rule whose nonterminal is placed",
-        items=grammar.rule_items,
-    )
-    scale: FloatProperty(
-        name="Scale",
-        description="Metres for one unit of the rule (the scale of the nonterminal's frame)",
-        default=grammar.DEFAULT_SCALE,
-        min=1e-3,
-        soft_min=1.0,
-        soft_max=5000.0,
-        unit='LENGTH',
-        subtype='DISTANCE',
-    )
+    rule: grammar.rule_property("Rule whose nonterminal is placed")
+    scale: grammar.scale_property("Metres for one unit of the rule (the scale of the nonterminal's frame)")
 
     def invoke(self, context, event):
         settings = context.scene.road_grammar
@@ -260,48 +243,13 @@ class ROADS_OT_grow(Operator):
     bl_label = "Grow"
     bl_options = {'REGISTER', 'UNDO'}
 
-    steps: IntProperty(
-        name="Steps",
-        description="Derivation steps: each rewrites every nonterminal at once",
-        default=grammar.DEFAULT_STEPS,
-        min=1,
-        soft_max=10,
-    )
-    max_vertices: IntProperty(
-        name="Max Vertices",
-        description="Vertex budget: a step that would make the graph larger is not applied",
-        default=grammar.DEFAULT_MAX_VERTICES,
-        min=1,
-    )
-    tolerance_unit: EnumProperty(
-        name="Tolerance Unit",
-        description="How the embedding tolerance is given",
-        items=grammar.TOLERANCE_ITEMS,
-        default='RELATIVE',
-    )
-    tolerance: FloatProperty(
-        name="Tolerance",
-        description="Embedding points connect to (and placed vertices merge with) vertices this "
-        "close, as a fraction of the rewritten vertex's scale",
-        default=grammar.DEFAULT_TOLERANCE,
-        min=0.0,
-        soft_max=0.5,
-        precision=3,
-    )
-    tolerance_m: FloatProperty(
-        name="Tolerance (m)",
-        description="Embedding points connect to (and placed vertices merge with) vertices this close, in metres",
-        default=grammar.DEFAULT_TOLERANCE_M,
-        min=0.0,
-        soft_max=100.0,
-        unit='LENGTH',
-        subtype='DISTANCE',
-    )
-    strict: BoolProperty(
-        name="Strict Embedding",
-        description="Rewrite a nonterminal only when every embedding point finds a vertex to connect to",
-        default=False,
-    )
+    steps: grammar.steps_property()
+    max_vertices: grammar.max_vertices_property()
+    tolerance_unit: grammar.tolerance_unit_property("Tolerance Unit")
+    tolerance: grammar.tolerance_property()
+    tolerance_m: grammar.tolerance_m_property("Tolerance (m)")
+    strict: grammar.strict_property("Rewrite a nonterminal only when every embedding point finds a vertex to "
+                                    "connect to")
 
     _FROM_SETTINGS = ("steps", "max_vertices", "tolerance_unit", "tolerance", "tolerance_m", "strict")
 

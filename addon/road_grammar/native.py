@@ -168,3 +168,13 @@ def status():
         return None, str(ex)
     version = getattr(module, "__version__", "unknown version")
     return module, "ggg {} ({})".format(version, getattr(module, "__file__", "built in"))
+
+
+def load_or_report(operator):
+    """The module ``ggg``, or None after reporting to ``operator`` (an ERROR) why it cannot
+    be used."""
+    try:
+        return load()
+    except NativeModuleError as ex:
+        operator.report({'ERROR'}, str(ex))
+        return None

@@ -16,6 +16,17 @@ HIGHWAY_ITEMS = (
 )
 
 
+def input_file_or_report(operator):
+    """The operator's filepath made absolute when it names a file; else None after an ERROR
+    report that says what is wrong with it."""
+    path = bpy.path.abspath(operator.filepath)
+    if not os.path.isfile(path):
+        problem = "is a folder, not a file" if os.path.isdir(path) else "no such file"
+        operator.report({'ERROR'}, "{}: {}".format(path or "(no file given)", problem))
+        return None
+    return path
+
+
 class ROADS_OT_import_osm(Operator, ImportHelper):
     """Import the road network of an OpenStreetMap file as a graph mesh and road surfaces"""
 
@@ -78,19 +89,15 @@ class ROADS_OT_import_osm(Operator, ImportHelper):
         return self.highways.lower()
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
-        if not os.path.isfile(path):
-            problem = "is a folder, not a file" if os.path.isdir(path) else "no such file"
-            self.report({'ERROR'}, "{}: {}".format(path or "(no file given)", problem))
+        path = input_file_or_report(self)
+        if path is None:
             return {'CANCELLED'}
         highways = self._highway_spec()
         if not highways:
             self.report({'ERROR'}, "No highway values given for the custom highway filter")
             return {'CANCELLED'}
-        try:
-            ggg = native.load()
-        except native.NativeModuleError as ex:
-            self.report({'ERROR'}, str(ex))
+        ggg = native.load_or_report(self)
+        if ggg is None:
             return {'CANCELLED'}
 
         prefs = preferences.get(context)

@@ -15,10 +15,15 @@ road_graph_object = importer.road_graph_object
 MAX_LISTED_RULES = 40
 
 
-class VIEW3D_PT_roads(Panel):
+class _RoadsTab:
+    """Where the panels are: the "Roads" tab of the 3D view's sidebar."""
+
     bl_space_type = 'VIEW_3D'
     bl_region_type = 'UI'
     bl_category = "Roads"
+
+
+class VIEW3D_PT_roads(_RoadsTab, Panel):
     bl_label = "Roads"
 
     def draw(self, context):
@@ -62,10 +67,7 @@ class VIEW3D_PT_roads(Panel):
                 _wrapped_labels(col, str(scene[georef.KEY_SRID]))
 
 
-class VIEW3D_PT_roads_grammar(Panel):
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
-    bl_category = "Roads"
+class VIEW3D_PT_roads_grammar(_RoadsTab, Panel):
     bl_label = "Grammar"
 
     def draw(self, context):

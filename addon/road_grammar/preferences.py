@@ -93,10 +93,8 @@ class ROADS_OT_reset_widths(Operator):
     bl_options = {'INTERNAL'}
 
     def execute(self, context):
-        try:
-            ggg = native.load()
-        except native.NativeModuleError as ex:
-            self.report({'ERROR'}, str(ex))
+        ggg = native.load_or_report(self)
+        if ggg is None:
             return {'CANCELLED'}
         prefs = get(context)
         prefs.class_widths.clear()

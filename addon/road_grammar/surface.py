@@ -70,6 +70,27 @@ def _new_socket(tree, in_out, socket_type, name):
     return sockets.new(socket_type, name)
 
 
+def _new_geometry_group(name, markers, float_inputs, io_x):
+    """A new Geometry Nodes group with the custom properties ``markers`` and the interface
+    of the add-on's modifiers: a Geometry input, the float inputs ``float_inputs`` ((name,
+    default, min, max), ...), a Material input and a Geometry output. Returns (tree, Group
+    Input node at x = -io_x, Group Output node at x = io_x)."""
+    tree = bpy.data.node_groups.new(name, 'GeometryNodeTree')
+    for key, value in markers.items():
+        tree[key] = value
+    _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")
+    for socket_name, default, low, high in float_inputs:
+        socket = _new_socket(tree, 'INPUT', 'NodeSocketFloat', socket_name)
+        socket.default_value, socket.min_value, socket.max_value = default, low, high
+    _new_socket(tree, 'INPUT', 'NodeSocketMaterial', "Material")
+    _new_socket(tree, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
+    group_in = tree.nodes.new('NodeGroupInput')
+    group_in.location = (-io_x, 0)
+    group_out = tree.nodes.new('NodeGroupOutput')
+    group_out.location = (io_x, 0)
+    return tree, group_in, group_out
+
+
 def _input_sockets(tree):
     if hasattr(tree, "interface"):
         return [item for item in tree.interface.items_tree
@@ -109,22 +130,10 @@ def node_group():
     for group in bpy.data.node_groups:
         if group.bl_idname == 'GeometryNodeTree' and _is_current(group, NODE_GROUP_VERSION, lowest):
             return group
-    tree = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
-    tree[MARKER] = NODE_GROUP_VERSION
-    tree[RANK_MARKER] = lowest
-    _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")
-    scale = _new_socket(tree, 'INPUT', 'NodeSocketFloat', "Width Scale")
-    scale.default_value, scale.min_value, scale.max_value = 1.0, 0.0, 10.0
-    step = _new_socket(tree, 'INPUT', 'NodeSocketFloat', "Layer Step")
-    step.default_value, step.min_value, step.max_value = 0.02, 0.0, 1.0
-    _new_socket(tree, 'INPUT', 'NodeSocketMaterial', "Material")
-    _new_socket(tree, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
-
+    tree, group_in, group_out = _new_geometry_group(
+        NODE_GROUP_NAME, {MARKER: NODE_GROUP_VERSION, RANK_MARKER: lowest},
+        (("Width Scale", 1.0, 0.0, 10.0), ("Layer Step", 0.02, 0.0, 1.0)), io_x=900)
     nodes, links = tree.nodes, tree.links
-    group_in = nodes.new('NodeGroupInput')
-    group_in.location = (-900, 0)
-    group_out = nodes.new('NodeGroupOutput')
-    group_out.location = (900, 0)
 
     # Each edge polyline of the mesh becomes a curve; its `width` edge attribute arrives on
     # the curve points.
