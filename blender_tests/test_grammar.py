@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import REPO, edge_attribute, import_roads, snapshot, write_osm
-from road_grammar import frames, grammar, grammar_ops, importer
+from road_grammar import frames, grammar, grammar_ops, importer, mesh_build
 
 SIERPINSKI = REPO / "samples" / "sierpinski.grammar.json"
 CLI = REPO / "build" / "bin" / "ggg"
@@ -480,31 +480,225 @@ def test_import_derived_graph_file_keeps_nonterminals(tmp_path, ggg):
     assert len(obj.data.vertices) == 27
 
 
-def test_kept_vertices_and_edges():
+def test_kept_edges_follow_source_vertices():
     from road_grammar import graph_edit
 
-    old = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]])
-    stable = np.array([True, True, True, True, False])  # vertex 4 was rewritten
-    new = np.array([[2.0, 0.0], [0.0, 0.0], [1.0, 0.0], [5.0, 5.0], [0.0, 0.0], [3.0, 0.0]])
-    vertex_map = graph_edit.kept_vertices(old, stable, new)
-    # Shared positions (1, 0) are ambiguous; only the first new vertex at (0, 0) is vertex 0.
-    np.testing.assert_array_equal(vertex_map, [3, 0, -1, -1, -1, -1])
-    old_edges = np.array([[0, 3], [1, 2], [3, 4]])
-    edge_map, flipped = graph_edit.kept_edges(old_edges, vertex_map, np.array([[0, 1], [1, 3], [0, 5]]))
-    np.testing.assert_array_equal(edge_map, [0, -1, -1])
-    np.testing.assert_array_equal(flipped, [True, False, False])
+    old_edges = np.array([[0, 3], [1, 2], [3, 4], [2, 1]])  # edge 3 runs beside edge 1
+    # New vertices 0..3 are old 3, 0, 1, 2; vertex 4 was placed (old vertex 4 was rewritten).
+    source = np.array([3, 0, 1, 2, -1])
+    new_edges = np.array([[1, 0], [2, 3], [0, 4], [1, 2], [4, 2]])
+    # Old edge 0 and old edge 1 (the first of the two between 1 and 2) are kept; edges at
+    # the placed vertex and between vertices no old edge joined are new.
+    np.testing.assert_array_equal(graph_edit.kept_edges(old_edges, source, new_edges), [0, 1, -1, -1, -1])
+    assert graph_edit.kept_edges(np.zeros((0, 2)), source, new_edges).tolist() == [-1] * 5
 
 
-def test_new_polylines_keep_old_shapes():
-    from road_grammar import graph_edit
+def surface_lines(obj):
+    """The polyline of each graph edge in the surface of ``obj``, as stored (float32)."""
+    mesh = importer.surface_object(obj).data
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    offsets, points = mesh_build.segment_polylines(co.reshape(-1, 3)[:, :2], mesh_build.edge_vertices(mesh),
+                                                   edge_attribute(mesh, importer.SURFACE_EDGE, np.int64),
+                                                   len(obj.data.edges))
+    return [points[offsets[i]:offsets[i + 1]] for i in range(len(obj.data.edges))]
 
-    old_lines = (np.array([0, 3, 3]), np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]]))
-    positions = np.array([[2.0, 0.0], [0.0, 0.0], [9.0, 9.0]])
-    edges = np.array([[0, 1], [1, 2]])  # edge 0 is old edge 0 run backwards; edge 1 is new
-    offsets, points = graph_edit.new_polylines(old_lines, np.array([0, -1]), np.array([True, False]),
-                                               positions, edges)
-    np.testing.assert_array_equal(offsets, [0, 3, 3])
-    np.testing.assert_allclose(points, [[2.0, 0.0], [1.0, 1.0], [0.0, 0.0]])
+
+def edge_names(obj):
+    return mesh_build.read_strings(obj.data, importer.NAME, 'EDGE')
+
+
+def test_grow_keeps_two_roads_that_end_at_one_place(tmp_path, ggg, prefs):
+    """Two dead ends at the same position (two vertices, e.g. a road that stops where
+    another begins without a junction): a grow keeps both roads' widths, names and
+    polylines exactly, and the embedding edge joins one of the two vertices."""
+    positions = np.array([[0.0, 0.0], [100.0, 0.0], [100.0, 0.0], [200.0, 0.0]])
+    classes = list(ggg.highway_classes())
+    graph = ggg.Graph.from_arrays(
+        positions, np.array([[0, 1], [2, 3]]), origin_latlon=(46.0, 8.95),
+        edge_highway=np.array([classes.index("secondary"), classes.index("residential")]),
+        edge_width=np.array([7.3, 4.1]), edge_lanes=np.array([2, 0]), edge_oneway=np.array([0, 1]),
+        edge_names=["Rue des Arts", "Chemin du Lac"],
+        edge_geometry=(np.array([0, 3, 5]), np.array([[0.0, 0.0], [50.0, 20.0], [100.0, 0.0],
+                                                      [100.0, 0.0], [200.0, 0.0]])))
+    path = tmp_path / "two_dead_ends.ggraph"
+    graph.write(str(path))
+    assert import_roads(path, highways='ALL') == {'FINISHED'}
+    obj = bpy.context.active_object
+    assert edge_names(obj) == ["Rue des Arts", "Chemin du Lac"]
+    before = {name: (width, lanes, oneway, line) for name, width, lanes, oneway, line in zip(
+        edge_names(obj), edge_attribute(obj.data, "width", np.float32), edge_attribute(obj.data, "lanes", np.int64),
+        edge_attribute(obj.data, "oneway", np.int64), surface_lines(obj))}
+    assert before["Rue des Arts"][0] == np.float32(7.3) and before["Chemin du Lac"][0] == np.float32(4.1)
+    assert len(before["Rue des Arts"][3]) == 3
+
+    # A spur whose embedding point lands on the shared place (100, 0), 40 m south of it.
+    assert load(write_grammar(tmp_path, T_GRAMMAR)) == {'FINISHED'}
+    cursor = bpy.context.scene.cursor
+    cursor.location = (100.0, 40.0, 0.0)
+    cursor.rotation_euler = (0.0, 0.0, math.radians(90.0))
+    assert bpy.ops.roads.place_rule(rule='T', scale=40.0) == {'FINISHED'}
+    assert bpy.ops.roads.grow(steps=1) == {'FINISHED'}
+
+    mesh = obj.data
+    assert len(mesh.vertices) == 6 and len(mesh.edges) == 4
+    names = edge_names(obj)
+    assert sorted(names) == ["", "", "Chemin du Lac", "Rue des Arts"]
+    width = edge_attribute(mesh, "width", np.float32)
+    lanes = edge_attribute(mesh, "lanes", np.int64)
+    oneway = edge_attribute(mesh, "oneway", np.int64)
+    lines = surface_lines(obj)
+    for i, name in enumerate(names):
+        if name:
+            old_width, old_lanes, old_oneway, old_line = before[name]
+            assert (width[i], lanes[i], oneway[i]) == (old_width, old_lanes, old_oneway), name
+            np.testing.assert_array_equal(lines[i], old_line)
+    # The new edges: the rule's primary road and the tertiary embedding edge, class widths.
+    defaults = ggg.default_widths()
+    highway = edge_attribute(mesh, "highway", np.int64)
+    new = {classes[highway[i]]: width[i] for i, name in enumerate(names) if not name}
+    assert new == pytest.approx({"primary": defaults["primary"], "tertiary": defaults["tertiary"]})
+    embedding = next(i for i, name in enumerate(names) if not name and classes[highway[i]] == "tertiary")
+    ends = mesh_build.positions_xy(mesh)[mesh_build.edge_vertices(mesh)[embedding]]
+    assert sorted(map(tuple, np.round(ends, 3))) == [(100.0, 0.0), (100.0, 40.0)]
+
+
+def test_grow_keeps_a_curved_road_exactly(tmp_path, ggg):
+    """An imported road with shape nodes keeps its exact polyline (and name) through grows."""
+    lat, lon = 46.0, 8.95
+    nodes = {i + 1: (lat + 0.0004 * math.sin(i / 3.0), lon + 0.0002 * i) for i in range(12)}
+    nodes[20], nodes[21] = (lat - 0.001, lon), (lat - 0.001, lon + 0.001)
+    ways = [(10, list(range(1, 13)), {"highway": "tertiary", "name": "Route du Col"}),
+            (11, [20, 21], {"highway": "residential", "name": "Rue Basse", "width": "5.5"})]
+    path = write_osm(tmp_path / "curve.osm", nodes, ways)
+    assert import_roads(path, highways='ALL') == {'FINISHED'}
+    obj = bpy.context.active_object
+    lines = dict(zip(edge_names(obj), surface_lines(obj)))
+    assert len(lines["Route du Col"]) == 12
+    widths = dict(zip(edge_names(obj), edge_attribute(obj.data, "width", np.float32)))
+
+    assert load(write_grammar(tmp_path, T_GRAMMAR)) == {'FINISHED'}
+    positions = mesh_build.positions_xy(obj.data)
+    east = positions[np.argmax(positions[:, 0])]
+    cursor = bpy.context.scene.cursor
+    cursor.location = (east[0] + 30.0, east[1], 0.0)
+    cursor.rotation_euler = (0.0, 0.0, 0.0)
+    for _ in range(2):
+        assert bpy.ops.roads.place_rule(rule='T', scale=30.0) == {'FINISHED'}
+        assert bpy.ops.roads.grow(steps=1) == {'FINISHED'}
+        cursor.location.x += 60.0
+
+    names = edge_names(obj)
+    assert len(names) == 2 + 4 and sorted(names)[-2:] == ["Route du Col", "Rue Basse"]
+    after = surface_lines(obj)
+    width = edge_attribute(obj.data, "width", np.float32)
+    for name, line in lines.items():
+        i = names.index(name)
+        np.testing.assert_array_equal(after[i], line)
+        assert width[i] == widths[name]
+    assert widths["Rue Basse"] == np.float32(5.5)
+    assert obj["total_length_m"] == pytest.approx(ggg_length(after), rel=1e-5)
+
+
+def ggg_length(lines):
+    return float(sum(np.linalg.norm(np.diff(line.astype(np.float64), axis=0), axis=1).sum() for line in lines))
+
+
+def test_grow_carries_blender_data_by_source_vertex(tmp_path, ggg):
+    """Attributes only Blender holds, selection and hiding follow their vertices and edges;
+    a width set to 0 by hand (the library takes only > 0) stays on its edge."""
+    nodes = {1: (46.0, 8.95), 2: (46.0, 8.951), 3: (46.0, 8.952)}
+    ways = [(10, [1, 2], {"highway": "residential"}), (11, [2, 3], {"highway": "residential"})]
+    assert import_roads(write_osm(tmp_path / "line.osm", nodes, ways), highways='ALL') == {'FINISHED'}
+    obj = bpy.context.active_object
+    mesh = obj.data
+    positions = mesh_build.positions_xy(mesh)
+    order = [int(i) for i in np.argsort(positions[:, 0])]  # west to east
+    edge_west = [i for i, (u, v) in enumerate(mesh_build.edge_vertices(mesh)) if order[0] in (u, v)][0]
+    mesh_build.set_attribute(mesh, "speed", 'FLOAT', 'EDGE', np.arange(len(mesh.edges)) + 30.0)
+    mesh_build.set_attribute(mesh, "height", 'INT', 'POINT', np.arange(len(mesh.vertices)) + 7)
+    mesh.attributes["width"].data[edge_west].value = 0.0
+    for v in mesh.vertices:
+        v.select = v.index == order[0]
+    mesh.vertices[order[2]].hide = True
+    for e in mesh.edges:
+        e.select = e.index == edge_west
+    old_speed = edge_attribute(mesh, "speed")
+    old_height = {tuple(positions[i]): i + 7 for i in range(len(positions))}
+
+    assert load(write_grammar(tmp_path, T_GRAMMAR)) == {'FINISHED'}
+    cursor = bpy.context.scene.cursor
+    east = positions[order[2]]
+    cursor.location = (east[0] + 50.0, east[1] + 50.0, 0.0)  # far from the roads: no embedding edge
+    cursor.rotation_euler = (0.0, 0.0, 0.0)
+    assert bpy.ops.roads.place_rule(rule='T', scale=20.0) == {'FINISHED'}
+    obj.data.vertices[-1].select = False
+    assert bpy.ops.roads.grow(steps=1) == {'FINISHED'}
+
+    mesh = obj.data
+    assert len(mesh.vertices) == 5 and len(mesh.edges) == 3
+    new_positions = mesh_build.positions_xy(mesh)
+    height = np.empty(len(mesh.vertices), dtype=np.int64)
+    mesh.attributes["height"].data.foreach_get("value", height)
+    for i, p in enumerate(new_positions):
+        assert height[i] == old_height.get(tuple(p), 0)
+    select = [v.select for v in mesh.vertices]
+    assert select == [tuple(p) == tuple(positions[order[0]]) for p in new_positions]
+    assert [v.hide for v in mesh.vertices] == [tuple(p) == tuple(positions[order[2]]) for p in new_positions]
+    speed = edge_attribute(mesh, "speed")
+    np.testing.assert_array_equal(speed, [*old_speed, 0.0])
+    assert [e.select for e in mesh.edges] == [i == edge_west for i in range(3)]
+    width = edge_attribute(mesh, "width")
+    assert width[edge_west] == 0.0 and width[1 - edge_west] > 0.0
+
+
+def test_grow_in_edit_mode_keeps_the_selection(tmp_path, ggg):
+    """In Edit Mode too, a kept vertex keeps its selection; the new geometry is not selected."""
+    nodes = {1: (46.0, 8.95), 2: (46.0, 8.951), 3: (46.0003, 8.9515)}
+    ways = [(10, [1, 2], {"highway": "residential", "name": "Rue \u00c9t\u00e9"}), (11, [2, 3], {"highway": "service"})]
+    assert import_roads(write_osm(tmp_path / "streets.osm", nodes, ways), highways='ALL') == {'FINISHED'}
+    obj = bpy.context.active_object
+    assert load() == {'FINISHED'}
+    bpy.context.scene.cursor.location = (500.0, 500.0, 0.0)
+    assert bpy.ops.roads.place_rule(rule='P', scale=50.0) == {'FINISHED'}
+    for element in (*obj.data.vertices, *obj.data.edges):
+        element.select = False
+    obj.data.vertices[0].select = True
+    bpy.ops.object.mode_set(mode='EDIT')
+    assert bpy.ops.roads.grow(steps=2) == {'FINISHED'}
+    assert obj.mode == 'EDIT'
+    bpy.ops.object.mode_set(mode='OBJECT')
+    assert len(obj.data.vertices) == 3 + 9
+    assert [v.select for v in obj.data.vertices] == [True] + [False] * 11
+    assert not any(e.select for e in obj.data.edges)
+    assert sorted(edge_names(obj))[-1] == "Rue \u00c9t\u00e9"
+
+
+def test_grow_nonterminal_without_rule(ggg, reports):
+    assert load() == {'FINISHED'}
+    assert bpy.ops.roads.place_rule(rule='P', scale=100.0) == {'FINISHED'}
+    obj = bpy.context.active_object
+    obj.data.attributes["symbol"].data[0].value = 5  # a symbol the grammar has no rule for
+    before = mesh_state(obj), snapshot()
+    assert bpy.ops.roads.grow(steps=1) == {'CANCELLED'}
+    assert (mesh_state(obj), snapshot()) == before
+    kind, message = reports()[-1]
+    assert kind == 'WARNING' and message == ("Nothing was rewritten in {}: none of its 1 nonterminal has a rule in "
+                                             "the grammar 'sierpinski'. The graph is unchanged.".format(obj.name))
+
+
+def test_grow_strict_refuses_every_rewrite(tmp_path, ggg, reports):
+    assert load(write_grammar(tmp_path, T_GRAMMAR)) == {'FINISHED'}
+    assert bpy.ops.roads.place_rule(rule='T', scale=50.0) == {'FINISHED'}
+    obj = bpy.context.active_object
+    before = mesh_state(obj)
+    assert bpy.ops.roads.grow(steps=1, strict=True) == {'CANCELLED'}
+    assert mesh_state(obj) == before
+    kind, message = reports()[-1]
+    assert kind == 'WARNING' and "strict embedding refused all 1 rewrite" in message and "unchanged" in message
+    # Relaxed, the same rule grows (its embedding point finds no vertex).
+    assert bpy.ops.roads.grow(steps=1) == {'FINISHED'}
+    assert len(obj.data.vertices) == 2 and len(obj.data.edges) == 1
 
 
 class _Layout:

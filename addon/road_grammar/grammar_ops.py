@@ -296,12 +296,13 @@ class ROADS_OT_grow(Operator):
                 except ggg.Error as ex:
                     self.report({'ERROR'}, "Cannot grow {}: {}".format(graph_obj.name, ex))
                     return {'CANCELLED'}
-                if report["steps"] == 0 or report["rewrites"] == 0:
+                if report["steps"] == 0:
+                    # The first step was not applied: nothing to rewrite, or over the budget.
                     self.report({'WARNING'}, self._nothing_message(graph_obj, old, parsed, report))
                     return {'CANCELLED'}
                 progress.step(0.0, "updating the mesh")
-                rule_symbols = [rule["symbol"] for rule in parsed.rules]
-                replacement = graph_edit.Replacement(context, graph_obj, old, result, ggg, rule_symbols)
+                replacement = graph_edit.Replacement(graph_obj, old, result, report,
+                                                     _class_widths(context, ggg, result))
                 replacement.apply(context)
                 progress.step(1.0, "done")
 
@@ -335,10 +336,11 @@ class ROADS_OT_grow(Operator):
         return "; ".join(parts), budget
 
     def _nothing_message(self, graph_obj, old, parsed, report):
-        reason = "none of its {} has a rule in the grammar '{}'".format(
-            _plural(old.nonterminal_count, "nonterminal"), parsed.name)
-        if report["stopped_by_budget"]:
+        if not report["nothing_to_rewrite"]:  # stopped by the budget
             reason = "the first step would pass the budget of {:,} vertices".format(self.max_vertices)
         elif report["refused"]:
             reason = "strict embedding refused all {}".format(_plural(report["refused"], "rewrite"))
+        else:
+            reason = "none of its {} has a rule in the grammar '{}'".format(
+                _plural(old.nonterminal_count, "nonterminal"), parsed.name)
         return "Nothing was rewritten in {}: {}. The graph is unchanged.".format(graph_obj.name, reason)

@@ -4,9 +4,10 @@ Two objects per graph, linked to the active collection:
 
 * "<name>": the graph itself, a mesh of loose edges (one vertex per graph vertex, one
   edge per graph edge, same order as the ggg.Graph arrays) with the edge attributes
-  `highway` (class code), `width` (metres), `rank`, `lanes` and `oneway`; and, when the
-  graph has nonterminal vertices (grammars, see grammar_ops.py), the point attributes
-  `symbol` and `frame_a` / `frame_b` with the "Rule Frames" modifier that draws them;
+  `highway` (class code), `width` (metres), `rank`, `lanes`, `oneway` and, when some
+  road has one, `name` (text); and, when the graph has nonterminal vertices (grammars,
+  see grammar_ops.py), the point attributes `symbol` and `frame_a` / `frame_b` with the
+  "Rule Frames" modifier that draws them;
 * "<name> Surface" (child of the first): the edge polylines, with `width`, `highway`,
   `rank` and `graph_edge` (the graph edge it belongs to) per segment, and the "Road
   Surface" Geometry Nodes modifier that makes them flat ribbons.
@@ -32,6 +33,8 @@ FRAME_A = "frame_a"
 FRAME_B = "frame_b"
 # Surface segment attribute: the graph edge the segment belongs to.
 SURFACE_EDGE = "graph_edge"
+# Edge attribute (text) of the graph mesh: the road's name, when some road has one.
+NAME = "name"
 
 _SOURCE_SUFFIXES = (".osm.pbf", ".osm.bz2", ".osm.gz", ".osm", ".pbf", ".bz2", ".gz",
                     ".geojson", ".json", ".ggraph")
@@ -141,13 +144,18 @@ def surface_object(graph_obj):
 
 
 def graph_edge_attributes(graph, widths):
-    return {
+    """The edge attributes of the graph mesh from ``graph``'s columns and the road ``widths``."""
+    attributes = {
         "highway": ('INT', graph.edge_highway),
         "width": ('FLOAT', widths),
         "rank": ('INT', graph.edge_rank),
         "lanes": ('INT', graph.edge_lanes),
         "oneway": ('INT', graph.edge_oneway),
     }
+    names = graph.edge_names
+    if any(names):
+        attributes[NAME] = (mesh_build.STRING, names)
+    return attributes
 
 
 def vertex_attributes(symbols, frames):

@@ -9,6 +9,9 @@ _ATTRIBUTE_KINDS = {
     'INT': (np.int32, "value"),
     'BOOLEAN': (np.bool_, "value"),
 }
+# Text attributes (edge names): Blender has no bulk access to them, so only the non-empty
+# values are set one by one.
+STRING = 'STRING'
 
 
 def _xyz(points_xy):
@@ -80,18 +83,25 @@ def user_attributes(mesh, domain):
 
 
 def set_attribute(mesh, name, kind, domain, values):
-    """Create (or replace) a generic attribute and fill it from ``values``."""
-    dtype, key = _ATTRIBUTE_KINDS[kind]
+    """Create (or replace) a generic attribute and fill it from ``values`` (a sequence of
+    str for a STRING attribute)."""
     existing = mesh.attributes.get(name)
     if existing is not None:
         mesh.attributes.remove(existing)
     attribute = mesh.attributes.new(name, kind, domain)
-    values = np.ascontiguousarray(values, dtype=dtype).ravel()
+    if kind != STRING:
+        values = np.ascontiguousarray(values, dtype=_ATTRIBUTE_KINDS[kind][0]).ravel()
     if len(values) != len(attribute.data):
         raise ValueError(
             "attribute {!r}: {} values for {} {} elements".format(name, len(values), len(attribute.data), domain)
         )
-    attribute.data.foreach_set(key, values)
+    if kind == STRING:
+        data = attribute.data
+        for index, value in enumerate(values):
+            if value:
+                data[index].value = value
+    else:
+        attribute.data.foreach_set(_ATTRIBUTE_KINDS[kind][1], values)
     return attribute
 
 
@@ -103,6 +113,60 @@ def read_attribute(mesh, name, dtype=np.float64):
     return values
 
 
+def read_strings(mesh, name, domain):
+    """The values of the STRING attribute ``name`` on ``domain`` as a list of str, or None
+    when the mesh has no such attribute."""
+    attribute = mesh.attributes.get(name)
+    if attribute is None or attribute.domain != domain or attribute.data_type != STRING:
+        return None
+    return [item.value for item in attribute.data]
+
+
+def read_flags(elements):
+    """{"select": bool array, "hide": bool array} of mesh.vertices or mesh.edges."""
+    flags = {}
+    for name in ("select", "hide"):
+        values = np.zeros(len(elements), dtype=bool)
+        elements.foreach_get(name, values)
+        flags[name] = values
+    return flags
+
+
+def write_flags(elements, flags):
+    """Set the flags of read_flags on mesh.vertices or mesh.edges."""
+    for name, values in flags.items():
+        values = np.ascontiguousarray(values, dtype=bool)
+        if len(values) != len(elements):
+            raise ValueError("{}: {} values for {} elements".format(name, len(values), len(elements)))
+        elements.foreach_set(name, values)
+
+
+def complete_polylines(offsets, points, positions, edges):
+    """(offsets, points) of ``Graph.edge_geometry()`` form where every edge has a polyline
+    of two points or more: one with fewer points becomes the straight segment between the
+    edge's vertices (``positions``, ``edges``)."""
+    offsets = np.asarray(offsets, dtype=np.int64)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    counts = np.diff(offsets)
+    short = np.flatnonzero(counts < 2)
+    if len(short) == 0:
+        return offsets, points
+    edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    positions = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+    new_counts = counts.copy()
+    new_counts[short] = 2
+    new_offsets = np.zeros(len(counts) + 1, dtype=np.int64)
+    np.cumsum(new_counts, out=new_offsets[1:])
+    new_points = np.empty((new_offsets[-1], 2), dtype=np.float64)
+    keep = counts >= 2
+    src = np.repeat(offsets[:-1][keep], counts[keep]) + _ramp(counts[keep])
+    dst = np.repeat(new_offsets[:-1][keep], counts[keep]) + _ramp(counts[keep])
+    new_points[dst] = points[src]
+    new_points[new_offsets[short]] = positions[edges[short, 0]]
+    new_points[new_offsets[short] + 1] = positions[edges[short, 1]]
+    return new_offsets, new_points
+
+
 def polyline_segments(offsets, points, positions, edges):
     """Segments of the edge polylines.
 
@@ -111,28 +175,9 @@ def polyline_segments(offsets, points, positions, edges):
     (``positions``, ``edges``); those end points are appended to the point array.
     Returns (points (P', 2), segments (S, 2) int32, owner (S,) int64: the edge of each segment).
     """
-    offsets = np.asarray(offsets, dtype=np.int64)
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    counts = np.diff(offsets)
-    short = np.flatnonzero(counts < 2)
-    if len(short):
-        # Rebuild with the short polylines replaced by their two end vertices.
-        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
-        positions = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
-        new_counts = counts.copy()
-        new_counts[short] = 2
-        new_offsets = np.zeros(len(counts) + 1, dtype=np.int64)
-        np.cumsum(new_counts, out=new_offsets[1:])
-        new_points = np.empty((new_offsets[-1], 2), dtype=np.float64)
-        keep = counts >= 2
-        src = np.repeat(offsets[:-1][keep], counts[keep]) + _ramp(counts[keep])
-        dst = np.repeat(new_offsets[:-1][keep], counts[keep]) + _ramp(counts[keep])
-        new_points[dst] = points[src]
-        new_points[new_offsets[short]] = positions[edges[short, 0]]
-        new_points[new_offsets[short] + 1] = positions[edges[short, 1]]
-        offsets, points, counts = new_offsets, new_points, new_counts
-    segment_counts = counts - 1
-    owner = np.repeat(np.arange(len(counts), dtype=np.int64), segment_counts)
+    offsets, points = complete_polylines(offsets, points, positions, edges)
+    segment_counts = np.diff(offsets) - 1
+    owner = np.repeat(np.arange(len(segment_counts), dtype=np.int64), segment_counts)
     start = np.repeat(offsets[:-1], segment_counts) + _ramp(segment_counts)
     segments = np.stack((start, start + 1), axis=1).astype(np.int32)
     return points, segments, owner
