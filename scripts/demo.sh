@@ -11,5 +11,5 @@ mkdir -p "$out"
 "$build/bin/ggg" info "$root/samples/sample_city.osm" --highways all | tee "$out/sample_city_info.json"
 "$build/bin/ggg" export "$root/samples/sample_city.osm" --highways all -o "$out/sample_city.geojson"
 GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
-  --python "$root/scripts/blender_demo.py" -- "$root/samples/sample_city.osm" "$out/sample_city.png"
+  --python "$root/scripts/blender_demo.py" -- "$root/samples/sample_city.osm" "$out/sample_city.png" --credit ""
 echo "demo written to $out (sample_city.png, sample_city.geojson, sample_city_info.json)"
