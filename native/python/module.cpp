@@ -1,7 +1,9 @@
 // The Python face of the library: numpy arrays in and out, the GIL released on long calls,
 // progress through a callback, and C++ errors as Python exceptions with the user's message.
 #include <cstring>
+#include <limits>
 #include <optional>
+#include <unordered_set>
 
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
@@ -58,7 +60,7 @@ public:
             py::gil_scoped_acquire gil;
             try {
                 py::object result = (*callable_)(fraction, std::string(message));
-                return result.is_none() || result.cast<bool>();
+                return result.is_none() || static_cast<bool>(py::bool_(result)); // Python truthiness
             } catch (py::error_already_set& e) {
                 error_ = std::move(e);
                 return false;
@@ -137,13 +139,18 @@ ggg::GeometricGraph graph_from_arrays(const DoubleArray& positions, const IntArr
     }
     ggg::GeometricGraph g;
     g.origin = {origin_latlon.first, origin_latlon.second};
+    if (!std::isfinite(g.origin.lat) || !std::isfinite(g.origin.lon) || std::abs(g.origin.lat) > 90 || std::abs(g.origin.lon) > 180) {
+        throw ggg::InputError("origin_latlon must be (latitude, longitude) in degrees");
+    }
     const auto p = positions.unchecked<2>();
     for (py::ssize_t i = 0; i < n; ++i) {
         if (!std::isfinite(p(i, 0)) || !std::isfinite(p(i, 1))) throw ggg::InputError("positions[" + std::to_string(i) + "] is not finite");
         g.add_vertex({p(i, 0), p(i, 1)}, osm_ids ? osm_ids->at(i) : 0);
         if (symbols) {
             const auto s = symbols->at(i);
-            if (s < 0) throw ggg::InputError("vertex_symbols[" + std::to_string(i) + "] is negative");
+            if (s < 0 || s > std::numeric_limits<ggg::Symbol>::max()) {
+                throw ggg::InputError("vertex_symbols[" + std::to_string(i) + "] is not a symbol number");
+            }
             g.symbols.back() = static_cast<ggg::Symbol>(s);
         }
         if (frames) {
@@ -156,9 +163,15 @@ ggg::GeometricGraph graph_from_arrays(const DoubleArray& positions, const IntArr
         }
     }
     const auto e = edges.unchecked<2>();
+    std::unordered_set<std::uint64_t> seen;
     for (py::ssize_t i = 0; i < m; ++i) {
         const auto u = e(i, 0), v = e(i, 1);
         if (u < 0 || v < 0 || u >= n || v >= n) throw ggg::InputError("edges[" + std::to_string(i) + "] refers to a vertex out of range");
+        if (u == v) throw ggg::InputError("edges[" + std::to_string(i) + "] joins a vertex to itself");
+        if (!seen.insert((static_cast<std::uint64_t>(std::min(u, v)) << 32) | static_cast<std::uint64_t>(std::max(u, v))).second) {
+            throw ggg::InputError("edges[" + std::to_string(i) + "] repeats an edge between vertices " + std::to_string(u) + " and " +
+                                  std::to_string(v));
+        }
         ggg::EdgeAttributes a{ggg::HighwayClass::road};
         const std::string at = "[" + std::to_string(i) + "]";
         if (highway) {
@@ -189,7 +202,10 @@ ggg::GeometricGraph graph_from_arrays(const DoubleArray& positions, const IntArr
             const auto begin = offsets.at(i), end = offsets.at(i + 1);
             if (begin < 0 || end < begin + 2 || end > points.shape(0)) throw ggg::InputError("edge_geometry offsets" + at + " are out of range");
             const auto pts = points.unchecked<2>();
-            for (auto k = begin; k < end; ++k) line.emplace_back(pts(k, 0), pts(k, 1));
+            for (auto k = begin; k < end; ++k) {
+                if (!std::isfinite(pts(k, 0)) || !std::isfinite(pts(k, 1))) throw ggg::InputError("edge_geometry points[" + std::to_string(k) + "] is not finite");
+                line.emplace_back(pts(k, 0), pts(k, 1));
+            }
             if ((line.front() - g.positions[static_cast<std::size_t>(u)]).norm() > 1e-6 ||
                 (line.back() - g.positions[static_cast<std::size_t>(v)]).norm() > 1e-6) {
                 throw ggg::InputError("edge_geometry" + at + " does not start and end at the edge's vertices");

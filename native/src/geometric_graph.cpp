@@ -16,14 +16,15 @@ VertexId GeometricGraph::add_vertex(const Vec2& position, std::int64_t osm_id) {
 
 std::uint32_t GeometricGraph::intern_name(const std::string& name) {
     if (name.empty()) return 0;
-    if (name_lookup_.size() != names.size()) { // names was edited or copied in directly
+    if (name_lookup_size_ != names.size()) { // names was edited or copied in directly
         name_lookup_.clear();
         for (std::size_t i = 0; i < names.size(); ++i) {
-            name_lookup_.emplace(names[i], static_cast<std::uint32_t>(i));
+            name_lookup_.emplace(names[i], static_cast<std::uint32_t>(i)); // the first of equal names wins
         }
     }
     const auto [it, inserted] = name_lookup_.emplace(name, static_cast<std::uint32_t>(names.size()));
     if (inserted) names.push_back(name);
+    name_lookup_size_ = names.size();
     return it->second;
 }
 

@@ -125,6 +125,8 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
         reader.close();
     } catch (const Error&) {
         throw;
+    } catch (const std::bad_alloc&) {
+        throw Error(path + ": out of memory while reading");
     } catch (const std::exception& e) {
         throw InputError(path + ": not a readable OSM file (" + e.what() + ")");
     }
@@ -151,7 +153,17 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
         }
         nodes.swap(unique);
     }
-    std::sort(ways.begin(), ways.end(), [](const RawWay& a, const RawWay& b) { return a.id < b.id; });
+    // The last version of a way id wins, as for nodes.
+    std::stable_sort(ways.begin(), ways.end(), [](const RawWay& a, const RawWay& b) { return a.id < b.id; });
+    {
+        std::vector<RawWay> unique;
+        unique.reserve(ways.size());
+        for (auto& w : ways) {
+            if (!unique.empty() && unique.back().id == w.id) unique.back() = std::move(w);
+            else unique.push_back(std::move(w));
+        }
+        ways.swap(unique);
+    }
 
     // Distinct referenced ids, each mapped to a place; nodes at the same place are one node.
     std::vector<std::int64_t> referenced(refs);
@@ -220,10 +232,19 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
     report(progress, 0.5, "projecting");
     const GeoOrigin origin = options.origin.value_or(GeoOrigin{(min_lat + max_lat) / 2, (min_lon + max_lon) / 2});
     LocalProjection projection(origin);
-    projection.forward(std::span<Vec2>(lonlat));
+    try {
+        projection.forward(std::span<Vec2>(lonlat));
+    } catch (const InputError& e) {
+        throw InputError(path + ": " + e.what());
+    }
     input.node_positions = std::move(lonlat);
 
-    GeometricGraph graph = build_graph(input, origin, options.topology, &stats.topology, progress);
+    GeometricGraph graph;
+    try {
+        graph = build_graph(input, origin, options.topology, &stats.topology, progress);
+    } catch (const InputError& e) {
+        throw InputError(path + ": " + e.what());
+    }
     report(progress, 1.0, "done");
     if (report_out) *report_out = stats;
     return graph;

@@ -67,12 +67,20 @@ LocalProjection::LocalProjection(GeoOrigin origin) : origin_(origin), impl_(std:
 LocalProjection::~LocalProjection() = default;
 
 namespace {
+// A point too far from the origin (the transverse Mercator diverges 90 degrees of longitude
+// away) comes back as infinity or an error value: that is bad input, not a number to keep.
 void transform(PJ* pj, PJ_DIRECTION direction, std::span<Vec2> xy) {
     if (xy.empty()) return;
     double* x = xy.data()->data();
     const std::size_t stride = sizeof(Vec2);
     proj_trans_generic(pj, direction, x, stride, xy.size(), x + 1, stride, xy.size(), nullptr, 0, 0,
                        nullptr, 0, 0);
+    for (const Vec2& p : xy) {
+        if (!p.allFinite() || std::abs(p.x()) > 1e8 || std::abs(p.y()) > 1e8) {
+            throw InputError("coordinates cannot be projected into one local frame: the data spans too much of the "
+                             "earth (a road graph covers a city or a region, not half the globe)");
+        }
+    }
 }
 } // namespace
 

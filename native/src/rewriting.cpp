@@ -281,6 +281,16 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
             result.totals.refused += s.refused;
             break;
         }
+        const bool finite = std::all_of(g.positions.begin(), g.positions.end(), [](const Vec2& p) {
+            return p.allFinite() && p.cwiseAbs().maxCoeff() < 1e12;
+        }) && std::all_of(g.frames.begin(), g.frames.end(), [](const Similarity2& f) {
+            return std::isfinite(f.a) && std::isfinite(f.b) && f.scale() > 0;
+        });
+        if (!finite) {
+            throw GrammarError("derivation step " + std::to_string(step + 1) +
+                               " leaves the range of usable coordinates (a rule grows or shrinks its frame without bound); "
+                               "derive fewer steps");
+        }
         ++result.steps;
         std::vector<VertexId> composed(step_source.size(), -1);
         for (std::size_t v = 0; v < step_source.size(); ++v) {

@@ -36,24 +36,6 @@ struct Piece {
     bool both_directions = false; // a merged dual carriageway
 };
 
-struct DisjointSets {
-    std::vector<std::int32_t> parent;
-    explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-    std::int32_t find(std::int32_t x) {
-        while (parent[static_cast<std::size_t>(x)] != x) {
-            auto& p = parent[static_cast<std::size_t>(x)];
-            p = parent[static_cast<std::size_t>(p)];
-            x = p;
-        }
-        return x;
-    }
-    void unite(std::int32_t a, std::int32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-    }
-};
-
 double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
     const Vec2 ab = b - a;
     const double len2 = ab.squaredNorm();
@@ -191,23 +173,40 @@ private:
             entries.emplace_back(BoostPoint(p.x(), p.y()), node);
         }
         bgi::rtree<std::pair<BoostPoint, std::int32_t>, bgi::quadratic<16>> tree(entries.begin(), entries.end());
-        DisjointSets sets(in_.node_positions.size());
+        // Clusters grow around seeds, never by chaining: a vertex joins a seed it is within
+        // the tolerance of, so a street of intersections 8 m apart does not collapse into one
+        // point at a 10 m tolerance. Seeds are taken densest first (most vertices within
+        // reach), then in node order, so the result is deterministic.
+        std::vector<std::vector<std::int32_t>> near(vertices.size());
         std::vector<std::pair<BoostPoint, std::int32_t>> found;
-        for (auto node : vertices) {
-            const Vec2& p = in_.node_positions[static_cast<std::size_t>(node)];
+        for (std::size_t i = 0; i < vertices.size(); ++i) {
+            const Vec2& p = in_.node_positions[static_cast<std::size_t>(vertices[i])];
             BoostBox box(BoostPoint(p.x() - tolerance, p.y() - tolerance), BoostPoint(p.x() + tolerance, p.y() + tolerance));
             found.clear();
             tree.query(bgi::intersects(box), std::back_inserter(found));
             for (const auto& [q, other] : found) {
-                if (other != node && (in_.node_positions[static_cast<std::size_t>(other)] - p).norm() <= tolerance) {
-                    sets.unite(node, other);
+                if (other != vertices[i] && (in_.node_positions[static_cast<std::size_t>(other)] - p).norm() <= tolerance) {
+                    near[i].push_back(other);
                 }
+            }
+            std::sort(near[i].begin(), near[i].end());
+        }
+        std::vector<std::size_t> seeds(vertices.size());
+        std::iota(seeds.begin(), seeds.end(), 0);
+        std::stable_sort(seeds.begin(), seeds.end(), [&](std::size_t a, std::size_t b) { return near[a].size() > near[b].size(); });
+        std::vector<std::int32_t> cluster_of(in_.node_positions.size(), -1);
+        for (std::size_t i : seeds) {
+            const std::int32_t seed = vertices[i];
+            if (cluster_of[static_cast<std::size_t>(seed)] >= 0) continue;
+            cluster_of[static_cast<std::size_t>(seed)] = seed;
+            for (std::int32_t other : near[i]) {
+                if (cluster_of[static_cast<std::size_t>(other)] < 0) cluster_of[static_cast<std::size_t>(other)] = seed;
             }
         }
         std::vector<Vec2> sum(in_.node_positions.size(), Vec2::Zero());
         std::vector<std::int32_t> count(in_.node_positions.size(), 0);
         for (auto node : vertices) {
-            const auto root = sets.find(node);
+            const auto root = cluster_of[static_cast<std::size_t>(node)];
             key_[static_cast<std::size_t>(node)] = root;
             sum[static_cast<std::size_t>(root)] += in_.node_positions[static_cast<std::size_t>(node)];
             ++count[static_cast<std::size_t>(root)];

@@ -169,3 +169,40 @@ TEST(Cli, ExportWritesGeoJsonAndGgraphThatReadBack) {
         EXPECT_EQ(nlohmann::json::parse(info.out)["edges"], 7080) << suffix;
     }
 }
+
+TEST(BadInput, DataSpanningTooMuchOfTheEarthIsAnErrorNotInfinity) {
+    const std::string opl = "n1 v1 x-45 y0\nn2 v1 x-44.999 y0\nn3 v1 x135 y0\nn4 v1 x135.001 y0\n"
+                            "w1 v1 Thighway=residential Nn1,n2\nw2 v1 Thighway=residential Nn3,n4\n";
+    const std::string path = temp_file(opl, ".opl");
+    try {
+        read_graph(path);
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("cannot be projected"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
+    }
+}
+
+TEST(BadInput, DeeplyNestedGeoJsonIsRefused) {
+    std::string text = R"({"type":"Feature","geometry":)";
+    for (int i = 0; i < 50; ++i) text += R"({"type":"GeometryCollection","geometries":[)";
+    text += R"({"type":"LineString","coordinates":[[8,46],[8.1,46]]})";
+    for (int i = 0; i < 50; ++i) text += "]}";
+    text += "}";
+    try {
+        read_graph(temp_file(text, ".geojson"));
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("nested"), std::string::npos) << e.what();
+    }
+}
+
+TEST(BadInput, AGraphThatCollapsesNamesTheFile) {
+    const std::string path = temp_file("n1 v1 x8 y46\nn2 v1 x8 y46\nw1 v1 Thighway=residential Nn1,n2\n", ".opl");
+    try {
+        read_graph(path);
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+    }
+}

@@ -393,3 +393,17 @@ TEST(CliDerive, ErrorsAndUsage) {
         EXPECT_EQ(r.code, 2) << args << ": " << r.err;
     }
 }
+
+TEST(Derivation, RunawayScaleEndsInAnErrorNotInfinity) {
+    Grammar g;
+    g.symbol_names = {"P"};
+    Rule rule; // P -> P one unit further at twice the scale: coordinates double every step
+    rule.symbol = 1;
+    rule.vertices = {{{1, 0}, 1, {2.0, 0.0}, {}}};
+    g.rules = {rule};
+    g.axiom_vertices = {{{0, 0}, 1, {}}};
+    GeometricGraph graph = g.axiom_graph();
+    DeriveOptions options;
+    options.max_steps = 5000;
+    EXPECT_THROW(derive(graph, g, options), GrammarError);
+}

@@ -237,3 +237,19 @@ TEST(WriteGraph, InvalidUtf8NamesAreReplacedAndFailedWritesLeaveNoFile) {
     EXPECT_THROW(write_graph(g, blocked), InputError);
     EXPECT_FALSE(std::filesystem::exists(blocked + ".partial"));
 }
+
+TEST(GraphFile, RepeatedNamesInTheTableAreFine) {
+    GeometricGraph g;
+    g.add_vertex({0, 0});
+    for (int i = 1; i <= 50; ++i) {
+        g.add_vertex({10.0 * i, 0});
+        EdgeAttributes a;
+        a.name = i % 2 ? "Main" : "Side";
+        g.add_edge(i - 1, i, a);
+    }
+    auto doc = graph_to_json(g);
+    doc["names"].push_back("Main"); // a table that repeats a name, as another writer may make
+    const GeometricGraph back = graph_from_json(doc, "g.ggraph");
+    ASSERT_EQ(back.edge_count(), 50u);
+    for (std::size_t e = 0; e < 50; ++e) EXPECT_EQ(back.edge_name(static_cast<EdgeId>(e)), g.edge_name(static_cast<EdgeId>(e)));
+}

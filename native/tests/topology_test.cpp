@@ -28,6 +28,9 @@ public:
         return *this;
     }
     Fixture& way(int id, const std::string& tags, std::initializer_list<int> refs) {
+        return way(id, tags, std::vector<int>(refs));
+    }
+    Fixture& way(int id, const std::string& tags, const std::vector<int>& refs) {
         ways_ << "w" << id << " v1 T" << tags << " N";
         bool first = true;
         for (int r : refs) {
@@ -221,4 +224,39 @@ TEST(Topology, AttributesComeFromTags) {
     EXPECT_EQ(g.edge_oneway[1], 1); // motorways are one-way by convention
     EXPECT_NEAR(g.edge_width_m[2], 12 * 0.3048, 1e-12);
     EXPECT_EQ(g.edge_lanes[2], 0);
+}
+
+TEST(Topology, ConsolidationDoesNotChainAlongAStreet) {
+    // A road with 60 side streets 8 m apart, alternately to the north and the south (their
+    // ends 16 m apart): at a 10 m tolerance crossings merge in small groups around seeds;
+    // the road does not collapse into one point.
+    Fixture f;
+    std::vector<int> road;
+    auto end_of = [](int i) { return Vec2(8.0 * i, i % 2 ? 100.0 : -100.0); };
+    for (int i = 0; i < 60; ++i) {
+        f.node(100 + i, 8.0 * i, 0).node(300 + i, end_of(i).x(), end_of(i).y());
+        f.way(1000 + i, "highway=residential", {100 + i, 300 + i});
+        road.push_back(100 + i);
+    }
+    f.way(999, "highway=primary", road);
+    GeometricGraph merged = f.import({.consolidate_m = 10.0});
+    reproject(merged, {46.0, 8.0}); // into the fixture's frame
+    EXPECT_EQ(check_simple(merged), "");
+    EXPECT_GE(merged.vertex_count(), 60u + 20u); // the 60 far ends and at least a third of the crossings
+    EXPECT_GT(merged.total_length(), 0.9 * 60 * 100.0);
+    // Every vertex stays within twice the tolerance of a crossing or a street end.
+    for (const Vec2& p : merged.positions) {
+        double nearest = 1e9;
+        for (int i = 0; i < 60; ++i) nearest = std::min({nearest, (p - Vec2(8.0 * i, 0)).norm(), (p - end_of(i)).norm()});
+        EXPECT_LE(nearest, 20.5);
+    }
+}
+
+TEST(Topology, TheLastVersionOfADuplicateWayWins) {
+    Fixture f;
+    f.node(1, 0, 0).node(2, 100, 0).node(3, 100, 100);
+    f.way(1, "highway=residential", {1, 2}).way(1, "highway=primary", {1, 3});
+    const GeometricGraph g = f.import();
+    ASSERT_EQ(g.edge_count(), 1u);
+    EXPECT_EQ(g.edge_highway[0], HighwayClass::primary);
 }

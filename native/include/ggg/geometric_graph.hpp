@@ -87,6 +87,7 @@ public:
 private:
     std::uint32_t intern_name(const std::string& name);
     std::unordered_map<std::string, std::uint32_t> name_lookup_;
+    std::size_t name_lookup_size_ = static_cast<std::size_t>(-1); // names.size() the lookup was built for
 };
 
 // Compressed adjacency (CSR) of a graph: neighbours of v are

@@ -31,8 +31,10 @@ struct TopologyInput {
 struct TopologyOptions {
     // Keep every node as a vertex (each segment becomes an edge).
     bool keep_shape_nodes = false;
-    // Merge vertices closer than this (metres) into their centroid; parallel roads that
-    // then run within this distance of each other (dual carriageways) become one edge.
+    // Merge vertices closer than this (metres) into their centroid: clusters grow around
+    // seed vertices (densest first), each member within this distance of its seed, never by
+    // chains of neighbours. Parallel roads that then run within twice this distance of each
+    // other (dual carriageways) become one edge.
     // 0 turns consolidation off.
     double consolidate_m = 0.0;
 };

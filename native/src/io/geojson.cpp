@@ -130,8 +130,9 @@ struct GeoJsonReader {
         input.add_way(nodes, std::move(a));
     }
 
-    void geometry(const nlohmann::json& geom, const nlohmann::json& props, const std::string& where) {
+    void geometry(const nlohmann::json& geom, const nlohmann::json& props, const std::string& where, int depth = 0) {
         if (geom.is_null()) return;
+        if (depth > 8) fail(where, "GeometryCollections nested more than 8 deep");
         if (!geom.is_object() || !geom.contains("type") || !geom["type"].is_string()) fail(where, "a geometry needs a \"type\"");
         const std::string type = geom["type"].get<std::string>();
         if (type == "LineString") {
@@ -145,7 +146,7 @@ struct GeoJsonReader {
         } else if (type == "GeometryCollection") {
             if (geom.contains("geometries") && geom["geometries"].is_array()) {
                 for (std::size_t i = 0; i < geom["geometries"].size(); ++i) {
-                    geometry(geom["geometries"][i], props, where + ".geometries[" + std::to_string(i) + "]");
+                    geometry(geom["geometries"][i], props, where + ".geometries[" + std::to_string(i) + "]", depth + 1);
                 }
             }
         } // points and polygons are not roads
@@ -205,10 +206,14 @@ GeometricGraph read_geojson(const nlohmann::json& doc, const std::string& name, 
         }
         origin = {(min_lat + max_lat) / 2, (min_lon + max_lon) / 2};
     }
-    LocalProjection projection(origin);
-    projection.forward(std::span<Vec2>(reader.lonlat));
-    reader.input.node_positions = std::move(reader.lonlat);
-    return build_graph(reader.input, origin, options);
+    try {
+        LocalProjection projection(origin);
+        projection.forward(std::span<Vec2>(reader.lonlat));
+        reader.input.node_positions = std::move(reader.lonlat);
+        return build_graph(reader.input, origin, options);
+    } catch (const InputError& e) {
+        throw InputError(name + ": " + e.what());
+    }
 }
 
 } // namespace ggg
