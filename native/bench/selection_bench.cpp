@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <random>
 #include <vector>
 
@@ -79,40 +80,24 @@ void run(benchmark::State& state, const std::vector<VertexId>& occ, std::size_t 
     state.counters["exact"] = result.exact ? 1 : 0;
 }
 
-// Arguments: occurrences, local search rounds, exact limit.
-void random5(benchmark::State& state) {
+// Random connected 5-vertex occurrences on a square grid with `vertices_per_occurrence`
+// grid vertices per occurrence: 5 gives a sparse overlap graph with many components (each
+// vertex in one occurrence on average), 1 one giant component (each vertex in five), like a
+// frequent small pattern. Arguments: occurrences, local search rounds, exact limit.
+void random_subsets(benchmark::State& state, double vertices_per_occurrence) {
     const auto count = static_cast<std::size_t>(state.range(0));
-    // About one occurrence per five vertices (each vertex in one occurrence on average):
-    // a sparse overlap graph, many components.
-    const int side = static_cast<int>(std::sqrt(5.0 * static_cast<double>(count)));
-    static std::vector<VertexId> occ;
-    static std::size_t built_for = 0;
-    if (built_for != count) {
-        occ = random_connected_subsets(side, count);
-        built_for = count;
-    }
+    const int side = static_cast<int>(std::sqrt(vertices_per_occurrence * static_cast<double>(count)));
+    static std::map<std::pair<int, std::size_t>, std::vector<VertexId>> cache;
+    auto& occ = cache[{side, count}];
+    if (occ.empty()) occ = random_connected_subsets(side, count);
     ggg::SelectionOptions options;
     options.local_search_rounds = static_cast<int>(state.range(1));
     options.exact_limit = static_cast<std::size_t>(state.range(2));
     run(state, occ, 5, options);
 }
 
-void random5_dense(benchmark::State& state) {
-    const auto count = static_cast<std::size_t>(state.range(0));
-    // One occurrence per vertex (each vertex in five on average): one giant component,
-    // like a frequent small pattern.
-    const int side = static_cast<int>(std::sqrt(static_cast<double>(count)));
-    static std::vector<VertexId> occ;
-    static std::size_t built_for = 0;
-    if (built_for != count) {
-        occ = random_connected_subsets(side, count);
-        built_for = count;
-    }
-    ggg::SelectionOptions options;
-    options.local_search_rounds = static_cast<int>(state.range(1));
-    options.exact_limit = static_cast<std::size_t>(state.range(2));
-    run(state, occ, 5, options);
-}
+void random5(benchmark::State& state) { random_subsets(state, 5.0); }
+void random5_dense(benchmark::State& state) { random_subsets(state, 1.0); }
 
 void grid_squares(benchmark::State& state) {
     std::size_t k = 0;

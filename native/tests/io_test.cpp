@@ -33,6 +33,15 @@ bool same_with_nan(const std::vector<T>& a, const std::vector<T>& b) {
     return true;
 }
 
+// The smallest graph a file can hold: two vertices, one edge.
+GeometricGraph one_edge_graph() {
+    GeometricGraph g;
+    g.add_vertex({0, 0});
+    g.add_vertex({10, 0});
+    g.add_edge(0, 1, {});
+    return g;
+}
+
 std::string message_of(const std::function<void()>& f) {
     try {
         f();
@@ -138,10 +147,7 @@ TEST(GeoJson, MalformedFilesNameThePlaceOfTheProblem) {
 }
 
 TEST(GraphFile, MalformedFilesNameThePlaceOfTheProblem) {
-    GeometricGraph g;
-    g.add_vertex({0, 0});
-    g.add_vertex({10, 0});
-    g.add_edge(0, 1, {});
+    GeometricGraph g = one_edge_graph();
     auto doc = graph_to_json(g);
     auto bad = doc;
     bad["edges"]["u"][0] = 7;
@@ -159,10 +165,7 @@ TEST(GraphFile, MalformedFilesNameThePlaceOfTheProblem) {
 }
 
 TEST(WriteGraph, BadDestinationsAreErrors) {
-    GeometricGraph g;
-    g.add_vertex({0, 0});
-    g.add_vertex({10, 0});
-    g.add_edge(0, 1, {});
+    GeometricGraph g = one_edge_graph();
     EXPECT_THROW(write_graph(g, "/nonexistent-dir/x.geojson"), InputError);
     EXPECT_THROW(write_graph(g, temp_path(".shp")), UsageError);
 }
@@ -188,10 +191,7 @@ TEST(ReadGraph, IntoTheFrameOfAnotherOrigin) {
 }
 
 TEST(ReadGraph, OwnFormatUnderAJsonNameIsRecognisedByContent) {
-    GeometricGraph g;
-    g.add_vertex({0, 0});
-    g.add_vertex({10, 0});
-    g.add_edge(0, 1, {});
+    GeometricGraph g = one_edge_graph();
     const std::string path = temp_path(".json");
     write_graph_file(g, path);
     EXPECT_EQ(read_graph(path).edge_count(), 1u);
@@ -200,10 +200,7 @@ TEST(ReadGraph, OwnFormatUnderAJsonNameIsRecognisedByContent) {
 TEST(ReadGraph, StrangeDocumentsAreInputErrors) {
     EXPECT_NE(message_of([] { read_graph(temp_file(R"({"format": 5})", ".json")); }).find(".json: not GeoJSON"), std::string::npos);
     EXPECT_NE(message_of([] { read_graph(temp_file(R"({"format": 5})", ".ggraph")); }).find("not a ggg graph file"), std::string::npos);
-    GeometricGraph g;
-    g.add_vertex({0, 0});
-    g.add_vertex({10, 0});
-    g.add_edge(0, 1, {});
+    GeometricGraph g = one_edge_graph();
     auto doc = graph_to_json(g);
     auto loop = doc;
     loop["edges"]["v"][0] = 0;
