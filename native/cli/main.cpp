@@ -11,6 +11,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "analyze_command.hpp"
+#include "cli_common.hpp"
 #include "ggg/error.hpp"
 #include "ggg/graph_info.hpp"
 #include "ggg/io/grammar_file.hpp"
@@ -19,54 +21,10 @@
 
 namespace {
 
-// CLI11's own NonNegativeNumber prints its whole numeric range in the message.
-const CLI::Validator non_negative(
-    [](std::string& value) {
-        try {
-            std::size_t used = 0;
-            const double x = std::stod(value, &used);
-            if (used != value.size() || !(x >= 0) || !std::isfinite(x)) return std::string("must be a number >= 0");
-        } catch (const std::exception&) {
-            return std::string("must be a number >= 0");
-        }
-        return std::string();
-    },
-    "NUMBER >= 0");
-
-struct ImportFlags {
-    std::string highways = "drivable";
-    bool keep_shape_nodes = false;
-    double consolidate_m = 0.0;
-
-    void add_to(CLI::App& command) {
-        command.add_option("--highways", highways,
-                           "Road classes to import: drivable, all, or a comma-separated list of highway values")
-            ->capture_default_str();
-        command.add_flag("--keep-shape-nodes", keep_shape_nodes, "Keep every OSM node as a vertex");
-        command.add_option("--consolidate", consolidate_m,
-                           "Merge intersections closer than this many metres (dual carriageways, roundabouts); 0 = off")
-            ->check(non_negative)
-            ->capture_default_str();
-    }
-
-    ggg::ImportOptions options() const {
-        ggg::ImportOptions o;
-        o.highways = ggg::HighwayFilter::parse(highways);
-        o.topology.keep_shape_nodes = keep_shape_nodes;
-        o.topology.consolidate_m = consolidate_m;
-        return o;
-    }
-};
-
-// Progress on stderr only for a person watching a terminal.
-ggg::ProgressCallback terminal_progress() {
-    if (!isatty(STDERR_FILENO)) return {};
-    return [](double fraction, std::string_view message) {
-        std::fprintf(stderr, "\r%3d%% %-40.*s", static_cast<int>(fraction * 100), static_cast<int>(message.size()), message.data());
-        if (fraction >= 1.0) std::fputc('\n', stderr);
-        return true;
-    };
-}
+using ggg::cli::ImportFlags;
+using ggg::cli::non_negative;
+using ggg::cli::peak_memory_mb;
+using ggg::cli::terminal_progress;
 
 // Appends `extra` (e.g. an axiom) to `base`; positions are taken as they are, in base's frame.
 void append_graph(ggg::GeometricGraph& base, const ggg::GeometricGraph& extra) {
@@ -83,11 +41,6 @@ void append_graph(ggg::GeometricGraph& base, const ggg::GeometricGraph& extra) {
     }
 }
 
-double peak_memory_mb() {
-    rusage usage{};
-    getrusage(RUSAGE_SELF, &usage);
-    return static_cast<double>(usage.ru_maxrss) / 1024.0;
-}
 
 } // namespace
 
@@ -132,6 +85,9 @@ int main(int argc, char** argv) {
     derive->add_option("-o,--output", output, "Output file: .geojson or .ggraph (keeps symbols and frames)")->required();
     import_flags.add_to(*derive);
 
+    ggg::cli::AnalyzeCommand analyze;
+    analyze.add_to(app);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -148,6 +104,7 @@ int main(int argc, char** argv) {
             ggg::graph_file_type(output) != ggg::GraphFileType::graph_file) {
             throw ggg::UsageError(output + ": unknown output type (use .geojson or .ggraph)");
         }
+        if (analyze.chosen()) return analyze.run();
         if (*derive) {
             const ggg::Grammar grammar = ggg::read_grammar(grammar_path);
             if (tolerance_m >= 0) {

@@ -19,67 +19,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common.hpp"
+
 namespace py = pybind11;
 
+using ggg::python::column;
+using ggg::python::column_as;
+using ggg::python::points;
+using ggg::python::PythonProgress;
+
 namespace {
-
-template <typename T>
-py::array_t<T> column(const std::vector<T>& values) {
-    py::array_t<T> out(static_cast<py::ssize_t>(values.size()));
-    if (!values.empty()) std::memcpy(out.mutable_data(), values.data(), values.size() * sizeof(T));
-    return out;
-}
-
-template <typename Out, typename In>
-py::array_t<Out> column_as(const std::vector<In>& values) {
-    py::array_t<Out> out(static_cast<py::ssize_t>(values.size()));
-    auto view = out.template mutable_unchecked<1>();
-    for (std::size_t i = 0; i < values.size(); ++i) view(static_cast<py::ssize_t>(i)) = static_cast<Out>(values[i]);
-    return out;
-}
-
-py::array_t<double> points(const std::vector<ggg::Vec2>& values) {
-    py::array_t<double> out({static_cast<py::ssize_t>(values.size()), py::ssize_t{2}});
-    auto view = out.mutable_unchecked<2>();
-    for (std::size_t i = 0; i < values.size(); ++i) {
-        view(static_cast<py::ssize_t>(i), 0) = values[i].x();
-        view(static_cast<py::ssize_t>(i), 1) = values[i].y();
-    }
-    return out;
-}
-
-// Wraps a Python callable so that C++ can call it from a thread without the GIL. An
-// exception inside the callable cancels the operation and is re-raised afterwards.
-class PythonProgress {
-public:
-    explicit PythonProgress(std::optional<py::function> callable) : callable_(std::move(callable)) {}
-
-    ggg::ProgressCallback callback() {
-        if (!callable_) return {};
-        return [this](double fraction, std::string_view message) {
-            py::gil_scoped_acquire gil;
-            try {
-                py::object result = (*callable_)(fraction, std::string(message));
-                return result.is_none() || static_cast<bool>(py::bool_(result)); // Python truthiness
-            } catch (py::error_already_set& e) {
-                error_ = std::move(e);
-                return false;
-            }
-        };
-    }
-
-    void rethrow() {
-        if (error_) {
-            py::error_already_set e = std::move(*error_);
-            error_.reset();
-            throw e;
-        }
-    }
-
-private:
-    std::optional<py::function> callable_;
-    std::optional<py::error_already_set> error_;
-};
 
 ggg::GeometricGraph read_graph(const std::string& path, const std::string& highways, bool keep_shape_nodes,
                                double consolidate_m, std::optional<std::pair<double, double>> origin_latlon,
@@ -429,6 +378,8 @@ PYBIND11_MODULE(ggg, m) {
           "Derive up to `steps` parallel rewriting steps from `graph` (default: the grammar's axiom).\n"
           "Returns (Graph, report dict with vertices, edges, steps, stopped_by_budget, converged, ...).\n"
           "`tolerance` is relative to the rewritten vertex's scale; `tolerance_m` (metres) replaces it.");
+
+    ggg::python::bind_analysis(m);
 
     m.def("read_graph", &read_graph, py::arg("path"), py::arg("highways") = "drivable", py::arg("keep_shape_nodes") = false,
           py::arg("consolidate_m") = 0.0, py::arg("origin_latlon") = py::none(), py::arg("progress") = py::none(),

@@ -143,6 +143,8 @@ public:
         Complex rotation = 1.0;
         double rms = 0.0;
         double max = 0.0;
+        // When set, every passing bijection is also appended here (automorphism listing).
+        std::vector<std::pair<std::vector<int>, Complex>>* all = nullptr;
     };
 
     // Every passing bijection under the rotation hypothesis `r0` (unit complex) with p -> q
@@ -312,6 +314,7 @@ private:
         }
         const double worst = std::sqrt(worst2);
         if (!(worst <= tau_)) return false;
+        if (best.all) best.all->emplace_back(f_, r);
         const double rms = std::sqrt(squares / k_);
         if (best.found && !(rms < best.rms)) return true;
         best.found = true;
@@ -359,6 +362,13 @@ void check_options(const IsomorphismOptions& o) {
 }
 
 } // namespace
+
+IsomorphismOptions::Scale scale_mode_from_name(std::string_view name) {
+    if (name == "similarity") return IsomorphismOptions::Scale::similarity;
+    if (name == "rigid") return IsomorphismOptions::Scale::rigid;
+    if (name == "range") return IsomorphismOptions::Scale::range;
+    throw UsageError("scale mode must be similarity, rigid or range, got '" + std::string(name) + "'");
+}
 
 std::optional<IsomorphismMatch> geometrically_isomorphic(const Pattern& a, const Pattern& b,
                                                          const IsomorphismOptions& options) {
@@ -440,6 +450,61 @@ std::optional<IsomorphismMatch> geometrically_isomorphic(const Pattern& a, const
     match.transform.b = linear.imag();
     match.transform.t = pb.spread.centroid - match.transform.apply_linear(pa.spread.centroid);
     return match;
+}
+
+std::vector<IsomorphismMatch> geometric_automorphisms(const Pattern& p, const IsomorphismOptions& options,
+                                                     std::size_t limit) {
+    check_options(options);
+    require_valid(p, "p");
+    const Prepared prepared(p);
+    std::vector<IsomorphismMatch> result;
+    IsomorphismMatch identity;
+    identity.mapping.resize(p.size());
+    std::iota(identity.mapping.begin(), identity.mapping.end(), 0);
+    result.push_back(identity);
+    if (prepared.spread.degenerate || limit <= 1) return result;
+
+    const double tau = options.tolerance * (1.0 + 1e-9) + 1e-12;
+    Matcher matcher(prepared, prepared, 1.0, tau, options.respect_symbols);
+    std::vector<std::pair<std::vector<int>, Complex>> all;
+    Matcher::Best best;
+    best.all = &all;
+    int far = 0;
+    for (int i = 1; i < static_cast<int>(p.size()); ++i) {
+        if (prepared.radius[static_cast<std::size_t>(i)] > prepared.radius[static_cast<std::size_t>(far)]) far = i;
+    }
+    const Complex zp = prepared.z[static_cast<std::size_t>(far)];
+    const double rp = prepared.radius[static_cast<std::size_t>(far)];
+    for (int q = 0; q < static_cast<int>(p.size()) && !matcher.exhausted(); ++q) {
+        const double rq = prepared.radius[static_cast<std::size_t>(q)];
+        if (!matcher.compatible(far, q) || std::abs(rq - rp) > tau) continue;
+        const Complex r0 = prepared.z[static_cast<std::size_t>(q)] * std::conj(zp) * (1.0 / (rq * rp));
+        matcher.search(r0, far, q, 2.0 * tau, best);
+    }
+    // Each bijection can pass under several hypotheses; keep it once, in a stable order.
+    std::sort(all.begin(), all.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    all.erase(std::unique(all.begin(), all.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
+              all.end());
+    for (auto& [mapping, rotation] : all) {
+        if (mapping == identity.mapping) continue;
+        if (result.size() >= limit) break;
+        IsomorphismMatch m;
+        m.mapping = std::move(mapping);
+        m.transform.a = rotation.real();
+        m.transform.b = rotation.imag();
+        m.transform.t = prepared.spread.centroid - m.transform.apply_linear(prepared.spread.centroid);
+        double squares = 0.0;
+        double worst = 0.0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const double e = std::abs(rotation * prepared.z[i] - prepared.z[static_cast<std::size_t>(m.mapping[i])]);
+            squares += e * e;
+            worst = std::max(worst, e);
+        }
+        m.rms_residual = std::sqrt(squares / static_cast<double>(p.size()));
+        m.max_residual = worst;
+        result.push_back(std::move(m));
+    }
+    return result;
 }
 
 std::uint64_t invariant_hash(const Pattern& p, bool with_symbols) {

@@ -186,4 +186,45 @@ SimilarityFit fit_similarity(std::span<const Vec2> from, std::span<const Vec2> t
     return fit;
 }
 
+std::string check_isogroup(const GeometricGraph& g, const Adjacency& adjacency, const Isogroup& group,
+                           double max_residual) {
+    if (std::string problem = check_pattern(group.pattern); !problem.empty()) return "pattern: " + problem;
+    const std::size_t k = group.order();
+    if (group.vertices.size() != k * group.transforms.size()) {
+        return std::to_string(group.vertices.size()) + " occurrence vertices for " +
+               std::to_string(group.transforms.size()) + " occurrences of order " + std::to_string(k);
+    }
+    if (adjacency.offsets.size() != g.vertex_count() + 1) return "the adjacency was built for another graph";
+    std::vector<std::vector<VertexId>> seen;
+    seen.reserve(group.frequency());
+    for (std::size_t i = 0; i < group.frequency(); ++i) {
+        const auto occurrence = group.occurrence(i);
+        const std::string where = "occurrence " + std::to_string(i) + ": ";
+        for (VertexId v : occurrence) {
+            if (v < 0 || static_cast<std::size_t>(v) >= g.vertex_count()) return where + "vertex out of range";
+        }
+        std::vector<VertexId> sorted(occurrence.begin(), occurrence.end());
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return where + "a vertex repeats";
+        seen.push_back(std::move(sorted));
+        Similarity2 frame;
+        const Pattern induced = induced_pattern(g, adjacency, occurrence, &frame);
+        if (induced.edges != group.pattern.edges) return where + "its induced edges differ from the pattern's";
+        if (induced.symbols != group.pattern.symbols) return where + "its symbols differ from the pattern's";
+        const Similarity2& t = group.transforms[i];
+        const double scale = t.scale();
+        if (!(std::isfinite(scale) && scale > 0.0) || !t.t.allFinite()) return where + "transform is degenerate";
+        for (std::size_t j = 0; j < k; ++j) {
+            const double residual = (t.apply(group.pattern.positions[j]) - g.positions[static_cast<std::size_t>(occurrence[j])]).norm();
+            if (!(residual <= max_residual * scale)) {
+                return where + "vertex " + std::to_string(j) + " lies " + std::to_string(residual / scale) +
+                       " pattern units from its place (allowed " + std::to_string(max_residual) + ")";
+            }
+        }
+    }
+    std::sort(seen.begin(), seen.end());
+    if (std::adjacent_find(seen.begin(), seen.end()) != seen.end()) return "two occurrences share a vertex set";
+    return {};
+}
+
 } // namespace ggg

@@ -555,7 +555,7 @@ OverlapGraph build_overlap_graph(std::span<const VertexId> vertices, std::size_t
     // rank among the distinct ids (sparse ids would make a direct table huge).
     std::vector<std::uint32_t> key(vertices.size());
     std::size_t keys = 0;
-    if (static_cast<std::size_t>(max_id) < 4 * vertices.size() + 65536) {
+    if (static_cast<std::size_t>(max_id) < 4 * vertices.size() + 256) {
         for (std::size_t i = 0; i < vertices.size(); ++i) key[i] = static_cast<std::uint32_t>(vertices[i]);
         keys = static_cast<std::size_t>(max_id) + 1;
     } else {

@@ -31,6 +31,7 @@
 // isomorphic only to a degenerate pattern, by topology and symbols alone.
 #include <cstdint>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "ggg/analysis/pattern.hpp"
@@ -50,6 +51,9 @@ struct IsomorphismOptions {
     bool respect_symbols = true;
 };
 
+// "similarity", "rigid", "range" (the names the CLI and Python use); UsageError otherwise.
+IsomorphismOptions::Scale scale_mode_from_name(std::string_view name);
+
 struct IsomorphismMatch {
     std::vector<int> mapping; // vertex i of a corresponds to vertex mapping[i] of b
     Similarity2 transform;    // coordinates of a -> coordinates of b
@@ -65,6 +69,16 @@ struct IsomorphismMatch {
 // 0 < min_scale <= max_scale < infinity.
 std::optional<IsomorphismMatch> geometrically_isomorphic(const Pattern& a, const Pattern& b,
                                                          const IsomorphismOptions& options = {});
+
+// The symmetries of `p`: every bijection of p onto itself that passes the test above in
+// similarity mode (options.mode and the scale bounds are ignored: a symmetry never scales),
+// the identity first, then in lexicographic order of the mappings, at most `limit` in all.
+// transform is the rotation about the centroid that realises each. A square street block
+// has four, a plain edge two; the analyzer uses them so that the same expansion of a
+// symmetric pattern is counted once, not once per symmetry. A degenerate pattern reports
+// only the identity.
+std::vector<IsomorphismMatch> geometric_automorphisms(const Pattern& p, const IsomorphismOptions& options = {},
+                                                     std::size_t limit = 64);
 
 // A hash of what isomorphism cannot change and noise cannot blur: vertex and edge counts,
 // the multiset of (degree, symbol) over vertices and of (degree, degree) over edges. Equal

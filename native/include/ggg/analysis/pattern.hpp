@@ -40,26 +40,34 @@ struct Pattern {
 // else the first problem. The comparison functions throw UsageError with this message.
 std::string check_pattern(const Pattern& p);
 
-// One place where a pattern sits in the host graph.
-struct Occurrence {
-    std::vector<VertexId> vertices; // graph vertex of pattern vertex i at i
-    Similarity2 transform;          // pattern coordinates -> graph coordinates (metres)
-};
-
-// A pattern and every place it occurs. Occurrences sit in one vector: contiguous, simple.
-// Their vertex lists are separate allocations; the analyzer's hot loops will want one flat
-// array of count x k vertex ids instead, which is a later optimisation of this layout.
+// A pattern and every place it occurs (its occurrences). Occurrences are stored flat,
+// because the analyzer makes millions of them: occurrence i maps pattern vertex j to graph
+// vertex vertices[i * k + j] (k = order), and transforms[i] maps pattern coordinates to
+// graph coordinates (metres) for it. An occurrence is an induced subgraph: the graph edges
+// among its vertices are exactly the pattern's edges under that mapping.
 struct Isogroup {
     Pattern pattern;
-    std::vector<Occurrence> occurrences;
+    std::vector<VertexId> vertices;
+    std::vector<Similarity2> transforms;
 
     std::size_t order() const noexcept { return pattern.size(); }
-    std::size_t frequency() const noexcept { return occurrences.size(); }
+    std::size_t frequency() const noexcept { return transforms.size(); }
+    std::span<const VertexId> occurrence(std::size_t i) const {
+        return {vertices.data() + i * order(), order()};
+    }
 };
+
+// Empty when every occurrence of `group` is what Isogroup promises in `g` (ids in range and
+// distinct, the induced edges equal to the pattern's, symbols equal, no two occurrences on
+// the same vertex set) and its transform puts each pattern vertex within
+// `max_residual` x (transform scale) of its graph vertex; else the first problem. The
+// invariant checker of the analyzer's tests and a guard for isogroups built elsewhere.
+std::string check_isogroup(const GeometricGraph& g, const Adjacency& adjacency, const Isogroup& group,
+                           double max_residual);
 
 // The subgraph of `g` induced by `vertices` (every edge of g with both ends among them),
 // vertex i of the pattern being vertices[i], in the canonical frame. `frame`, when given,
-// receives the map canonical -> graph coordinates: exactly the Occurrence transform of
+// receives the map canonical -> graph coordinates: exactly the occurrence transform of
 // these vertices. Throws UsageError for an empty list, an id out of range or a repeated id.
 // A graph whose symbols column is empty counts as all terminal.
 //

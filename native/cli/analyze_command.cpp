@@ -1,0 +1,171 @@
+#include "analyze_command.hpp"
+
+#include <chrono>
+#include <iostream>
+#include <sstream>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+
+#include "ggg/analyzer.hpp"
+#include "ggg/error.hpp"
+#include "ggg/io/read_graph.hpp"
+
+namespace ggg::cli {
+
+namespace {
+
+// "12x10" -> angle and distance cells.
+void parse_grid(const std::string& text, DetectionOptions& o) {
+    const auto x = text.find('x');
+    try {
+        if (x == std::string::npos) throw std::invalid_argument(text);
+        std::size_t used_a = 0;
+        std::size_t used_d = 0;
+        const std::string a = text.substr(0, x);
+        const std::string d = text.substr(x + 1);
+        o.angle_cells = std::stoi(a, &used_a);
+        o.distance_cells = std::stoi(d, &used_d);
+        if (used_a != a.size() || used_d != d.size()) throw std::invalid_argument(text);
+    } catch (const std::exception&) {
+        throw UsageError("--grid: expected ANGLESxDISTANCES such as 12x10, got '" + text + "'");
+    }
+}
+
+std::vector<std::int64_t> parse_ids(const std::string& text) {
+    std::vector<std::int64_t> ids;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        try {
+            std::size_t used = 0;
+            ids.push_back(std::stoll(item, &used));
+            if (used != item.size()) throw std::invalid_argument(item);
+        } catch (const std::exception&) {
+            throw UsageError("--seed-osm-nodes: '" + item + "' is not an OSM node id");
+        }
+    }
+    return ids;
+}
+
+} // namespace
+
+void AnalyzeCommand::add_to(CLI::App& app) {
+    command_ = app.add_subcommand("analyze", "Find the street patterns that repeat (isogroups) and rank them; prints JSON");
+    auto& c = *command_;
+    c.add_option("INPUT", input_, "Input road graph (OSM, GeoJSON or .ggraph)")->required();
+    import_.add_to(c);
+    c.add_option("--grid", grid_, "Polar grid of the vertex expansion: ANGLESxDISTANCES cells")->capture_default_str();
+    c.add_option("--cut", cut_, "Fraction of the least frequent patterns not grown further, once patterns are formed")
+        ->check(CLI::Range(0.0, 0.99))
+        ->capture_default_str();
+    c.add_flag("--full", full_, "Grow every pattern (no frequency cut): slower, the reference for --cut");
+    c.add_option("--max-order", max_order_, "Largest pattern, in vertices (0 = until nothing repeats)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
+    c.add_option("--min-count", min_count_, "Fewest occurrences for a pattern to count as repeated")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    c.add_option("--seed-osm-nodes", seed_osm_nodes_,
+                 "Comma-separated OSM node ids: start from the subgraph they induce instead of every edge");
+    c.add_option("--tolerance", tolerance_, "Seed match tolerance, relative to the seed's size")
+        ->check(CLI::Range(0.0, 0.99))
+        ->capture_default_str();
+    c.add_option("--scale", scale_, "How sizes compare: similarity (any size), rigid (same size), range (within 2x)")
+        ->capture_default_str();
+    c.add_option("--min-aspect", min_aspect_, "Only patterns whose shape is at least this square (0..1)")
+        ->check(CLI::Range(0.0, 1.0));
+    c.add_option("--min-leaves", min_leaves_, "Only patterns with at least this many leaves");
+    c.add_option("--min-irregularity", min_irregularity_, "Only patterns at least this irregular, in degrees (0..45)")
+        ->check(CLI::Range(0.0, 45.0));
+    c.add_option("--top", top_, "Print only the best N isogroups (0 = all)");
+    c.add_flag("--occurrences", occurrences_, "List the OSM node ids of every occurrence");
+    c.add_flag("--stats", stats_, "Also report per-order counts and peak memory");
+}
+
+int AnalyzeCommand::run() const {
+    AnalyzeOptions options;
+    parse_grid(grid_, options.detection);
+    options.detection.cut = cut_;
+    options.detection.full = full_;
+    options.detection.max_order = max_order_;
+    options.detection.min_count = min_count_;
+    options.detection.scale_mode = scale_mode_from_name(scale_);
+    options.seed_tolerance = tolerance_;
+    options.constraints.min_aspect = min_aspect_;
+    options.constraints.min_leaves = min_leaves_;
+    options.constraints.min_irregularity_deg = min_irregularity_;
+    check_options(options.detection);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    const GeometricGraph graph = read_graph(input_, import_.options(), nullptr, terminal_progress());
+    const auto t1 = std::chrono::steady_clock::now();
+    if (!seed_osm_nodes_.empty()) {
+        std::unordered_map<std::int64_t, VertexId> vertex_of;
+        for (std::size_t v = 0; v < graph.vertex_count(); ++v) {
+            if (graph.vertex_osm_ids[v] != 0) vertex_of.emplace(graph.vertex_osm_ids[v], static_cast<VertexId>(v));
+        }
+        for (std::int64_t id : parse_ids(seed_osm_nodes_)) {
+            const auto it = vertex_of.find(id);
+            if (it == vertex_of.end()) {
+                throw UsageError("--seed-osm-nodes: OSM node " + std::to_string(id) +
+                                 " is not a vertex of the road graph (a seed is made of intersections and road ends; "
+                                 "--keep-shape-nodes makes every node a vertex)");
+            }
+            options.seed.push_back(it->second);
+        }
+    }
+    const Analysis analysis = analyze(graph, options, terminal_progress());
+    const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - t1;
+    const std::chrono::duration<double> import_seconds = t1 - t0;
+
+    nlohmann::json groups = nlohmann::json::array();
+    const std::size_t shown = top_ == 0 ? analysis.isogroups.size() : std::min(top_, analysis.isogroups.size());
+    for (std::size_t i = 0; i < shown; ++i) {
+        const AnalyzedIsogroup& a = analysis.isogroups[i];
+        nlohmann::json j{{"order", a.group.order()},
+                         {"edge_count", a.group.pattern.edges.size()},
+                         {"occurrences", a.group.frequency()},
+                         {"non_overlapping", a.selection.non_overlapping.size()},
+                         {"score", a.score},
+                         {"gain", a.selection.gain},
+                         {"selection_exact", a.selection.exact},
+                         {"parent", a.parent},
+                         {"size_m", a.group.pattern.metres_per_unit}};
+        if (occurrences_) {
+            nlohmann::json list = nlohmann::json::array();
+            for (std::size_t o = 0; o < a.group.frequency(); ++o) {
+                nlohmann::json ids = nlohmann::json::array();
+                for (VertexId v : a.group.occurrence(o)) ids.push_back(graph.vertex_osm_ids[static_cast<std::size_t>(v)]);
+                list.push_back(std::move(ids));
+            }
+            j["occurrence_osm_nodes"] = std::move(list);
+        }
+        groups.push_back(std::move(j));
+    }
+    nlohmann::json out{{"seconds", seconds.count()},
+                       {"import_seconds", import_seconds.count()},
+                       {"graph", {{"vertices", graph.vertex_count()}, {"edges", graph.edge_count()}}},
+                       {"detected", analysis.detected},
+                       {"stopped_by_budget", analysis.stopped_by_budget},
+                       {"isogroups", std::move(groups)}};
+    if (stats_) {
+        nlohmann::json orders = nlohmann::json::array();
+        for (const OrderReport& r : analysis.orders) {
+            orders.push_back({{"order", r.order},
+                              {"parents", r.parents},
+                              {"candidates", r.candidates},
+                              {"children", r.children},
+                              {"groups", r.groups},
+                              {"expanded_next", r.expanded_next},
+                              {"occurrences", r.occurrences}});
+        }
+        out["orders"] = std::move(orders);
+        out["peak_memory_mb"] = peak_memory_mb();
+    }
+    std::cout << out.dump() << std::endl;
+    if (analysis.stopped_by_budget) std::cerr << "note: stopped growing patterns at the memory budget\n";
+    return 0;
+}
+
+} // namespace ggg::cli

@@ -1,0 +1,38 @@
+#pragma once
+// User-seeded search (paper 5.1, "user-assisted learning", Fig. 17): the user picks a piece
+// of the network, e.g. one city block, and asks where else it occurs.
+//
+// The answer is exact for the definition of geometrically_isomorphic: every induced
+// subgraph of the graph that passes that test against the seed, and nothing else. The
+// search walks the seed's vertices from its longest edge outwards over the graph, placing
+// each next vertex by the similarity that the first edge fixes; the window it accepts is
+// derived from the tolerance (an error of tau at both ends of an edge of length L moves a
+// point at distance d from its middle by at most tau (1 + 2 d / L)), so no true copy is cut
+// off early, and each complete candidate is then decided by the isomorphism test itself.
+#include <span>
+
+#include "ggg/analysis/geometric_isomorphism.hpp"
+#include "ggg/analysis/pattern.hpp"
+#include "ggg/geometric_graph.hpp"
+#include "ggg/progress.hpp"
+
+namespace ggg {
+
+struct SeedSearchOptions {
+    // Largest distance of a vertex from its partner, relative to the seed's RMS radius (as in
+    // IsomorphismOptions): 0.15 finds the blocks a person would call "the same shape".
+    double tolerance = 0.15;
+    IsomorphismOptions::Scale mode = IsomorphismOptions::Scale::similarity;
+    double min_scale = 0.5;
+    double max_scale = 2.0;
+    bool respect_symbols = true;
+};
+
+// The seed's isogroup: its pattern (the subgraph induced by `seed`, canonical) and every
+// occurrence, the seed itself first, then in the order of the graph's edges. Throws
+// UsageError when the seed has fewer than two vertices, an id out of range or repeated,
+// is not connected, or its vertices all lie at one point.
+Isogroup find_occurrences(const GeometricGraph& g, std::span<const VertexId> seed,
+                          const SeedSearchOptions& options = {}, const ProgressCallback& progress = {});
+
+} // namespace ggg

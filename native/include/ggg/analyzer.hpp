@@ -1,0 +1,44 @@
+#pragma once
+// The graph analyzer (paper 5): isogroup detection followed by selection, the one call
+// behind `ggg analyze`, the Python module and the Blender operators.
+#include <cstddef>
+#include <vector>
+
+#include "ggg/analysis/isogroup_detection.hpp"
+#include "ggg/analysis/seeded_search.hpp"
+#include "ggg/geometric_graph.hpp"
+#include "ggg/progress.hpp"
+#include "ggg/selection/isogroup_selection.hpp"
+
+namespace ggg {
+
+struct AnalyzeOptions {
+    DetectionOptions detection;
+    SelectionConstraints constraints;
+    SelectionOptions selection;
+    // Empty: automatic analysis from every edge. Else the user's seed: the subgraph
+    // induced by these vertices, searched with seed_tolerance (see SeedSearchOptions; the
+    // scale mode is detection.scale_mode) and grown from there.
+    std::vector<VertexId> seed;
+    double seed_tolerance = 0.15;
+};
+
+struct AnalyzedIsogroup {
+    Isogroup group;
+    long parent = -1;   // index in Analysis::isogroups of the group it grew from, or -1
+    double score = 0.0; // DetectionResult::scores
+    SelectedIsogroup selection; // selection.index is the group's place in detection order
+};
+
+struct Analysis {
+    // Best gain first; with a seed, the seed's own group first, then the groups grown
+    // from it by gain. Groups failing the constraints are left out (but not the seed's).
+    std::vector<AnalyzedIsogroup> isogroups;
+    std::vector<OrderReport> orders;
+    std::size_t detected = 0; // groups found before the constraints
+    bool stopped_by_budget = false;
+};
+
+Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options = {}, const ProgressCallback& progress = {});
+
+} // namespace ggg

@@ -1,0 +1,72 @@
+#pragma once
+// Isogroup selection (paper 5.2): which of the detected isogroups is worth a grammar rule.
+//
+// The paper takes "the largest from the most frequently repeated" isogroups. We make that
+// a number, the description-length gain of encoding an isogroup (pipeline step 4): each of
+// its m non-overlapping occurrences (k vertices, e edges inside) becomes one nonterminal
+// vertex, which removes k - 1 vertices and e edges per occurrence, and one rule of k
+// vertices and e edges is added:
+//
+//     gain = m (k - 1 + e) - (k + e)
+//
+// It grows with both size and frequency, it is negative for a pattern that occurs once,
+// and it is what the encoder saves, so ranking by it ranks by compression.
+//
+// Constraints (paper Fig. 18a) filter the ranking: a near-square overall shape, many
+// leaves (dead ends and streets that leave the pattern), or an irregular street layout.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ggg/analysis/pattern.hpp"
+#include "ggg/progress.hpp"
+#include "ggg/selection/non_overlapping.hpp"
+
+namespace ggg {
+
+// Shape measures of a pattern.
+struct PatternShape {
+    // sqrt(smaller / larger principal variance) of the vertex positions: 1 for a square or
+    // a round shape, 0 for vertices on a line.
+    double aspect = 0.0;
+    // Vertices of degree 1 inside the pattern.
+    std::size_t leaves = 0;
+    // Mean angle, in degrees (0 to 45), between an edge and the nearest of the pattern's
+    // two dominant perpendicular directions, weighted by edge length: 0 for a grid.
+    double irregularity_deg = 0.0;
+};
+PatternShape shape_of(const Pattern& p);
+
+struct SelectionConstraints {
+    double min_aspect = 0.0;            // keep shapes with aspect >= this (0..1)
+    std::size_t min_leaves = 0;         // keep patterns with at least this many leaves
+    double min_irregularity_deg = 0.0;  // keep patterns at least this irregular (0..45)
+    bool operator==(const SelectionConstraints&) const = default;
+};
+// Empty when p passes, else why not.
+std::string violated_constraint(const PatternShape& shape, const SelectionConstraints& c);
+
+double description_gain(std::size_t order, std::size_t edges, std::size_t non_overlapping);
+
+struct SelectedIsogroup {
+    std::size_t index = 0;                    // into the isogroups passed in
+    std::vector<std::uint32_t> non_overlapping; // occurrence indices, ascending
+    bool exact = true;                        // the selection is proven maximum
+    std::string method;                       // how it was found (SelectionResult::method)
+    double gain = 0.0;
+    PatternShape shape;
+};
+
+// The isogroups that meet the constraints with their non-overlapping occurrences, best
+// gain first (ties: more occurrences, larger order, lower index). Every group is first
+// ranked with a quick greedy selection (local search off, exact only up to 16 overlapping
+// occurrences); the 64 leading groups are then selected again with `options`, so the
+// groups a user or the encoder picks carry the full answer and its method. Deterministic;
+// independent of the number of threads.
+std::vector<SelectedIsogroup> select_isogroups(const std::vector<Isogroup>& isogroups,
+                                               const SelectionConstraints& constraints = {},
+                                               const SelectionOptions& options = {},
+                                               const ProgressCallback& progress = {});
+
+} // namespace ggg

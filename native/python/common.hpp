@@ -1,0 +1,81 @@
+#pragma once
+// Helpers shared by the binding files: numpy conversions and Python progress callbacks.
+#include <cstring>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include "ggg/progress.hpp"
+#include "ggg/similarity.hpp"
+
+namespace ggg::python {
+
+namespace py = pybind11;
+
+template <typename T>
+inline py::array_t<T> column(const std::vector<T>& values) {
+    py::array_t<T> out(static_cast<py::ssize_t>(values.size()));
+    if (!values.empty()) std::memcpy(out.mutable_data(), values.data(), values.size() * sizeof(T));
+    return out;
+}
+
+template <typename Out, typename In>
+inline py::array_t<Out> column_as(const std::vector<In>& values) {
+    py::array_t<Out> out(static_cast<py::ssize_t>(values.size()));
+    auto view = out.template mutable_unchecked<1>();
+    for (std::size_t i = 0; i < values.size(); ++i) view(static_cast<py::ssize_t>(i)) = static_cast<Out>(values[i]);
+    return out;
+}
+
+inline py::array_t<double> points(const std::vector<ggg::Vec2>& values) {
+    py::array_t<double> out({static_cast<py::ssize_t>(values.size()), py::ssize_t{2}});
+    auto view = out.mutable_unchecked<2>();
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        view(static_cast<py::ssize_t>(i), 0) = values[i].x();
+        view(static_cast<py::ssize_t>(i), 1) = values[i].y();
+    }
+    return out;
+}
+
+// Wraps a Python callable so that C++ can call it from a thread without the GIL. An
+// exception inside the callable cancels the operation and is re-raised afterwards.
+class PythonProgress {
+public:
+    explicit PythonProgress(std::optional<py::function> callable) : callable_(std::move(callable)) {}
+
+    ggg::ProgressCallback callback() {
+        if (!callable_) return {};
+        return [this](double fraction, std::string_view message) {
+            py::gil_scoped_acquire gil;
+            try {
+                py::object result = (*callable_)(fraction, std::string(message));
+                return result.is_none() || static_cast<bool>(py::bool_(result)); // Python truthiness
+            } catch (py::error_already_set& e) {
+                error_ = std::move(e);
+                return false;
+            }
+        };
+    }
+
+    void rethrow() {
+        if (error_) {
+            py::error_already_set e = std::move(*error_);
+            error_.reset();
+            throw e;
+        }
+    }
+
+private:
+    std::optional<py::function> callable_;
+    std::optional<py::error_already_set> error_;
+};
+
+// Binds the analyzer (analysis_bindings.cpp).
+void bind_analysis(py::module_& m);
+
+} // namespace ggg::python

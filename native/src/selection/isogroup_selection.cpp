@@ -1,0 +1,138 @@
+// Ranking isogroups by description-length gain, with shape constraints.
+#include "ggg/selection/isogroup_selection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+#include <Eigen/Eigenvalues>
+#include <tbb/parallel_for.h>
+
+namespace ggg {
+
+namespace {
+// Groups that get the full selection after the quick ranking pass.
+constexpr std::size_t thorough_count = 64;
+} // namespace
+
+PatternShape shape_of(const Pattern& p) {
+    PatternShape s;
+    const std::size_t k = p.size();
+    if (k == 0) return s;
+    Vec2 mean = Vec2::Zero();
+    for (const Vec2& x : p.positions) mean += x;
+    mean /= static_cast<double>(k);
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const Vec2& x : p.positions) cov += (x - mean) * (x - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+    const double lo = std::max(0.0, eig.eigenvalues()(0));
+    const double hi = eig.eigenvalues()(1);
+    s.aspect = hi > 0.0 ? std::sqrt(lo / hi) : 0.0;
+
+    std::vector<int> degree(k, 0);
+    for (const auto& [u, v] : p.edges) {
+        ++degree[static_cast<std::size_t>(u)];
+        ++degree[static_cast<std::size_t>(v)];
+    }
+    s.leaves = static_cast<std::size_t>(std::count(degree.begin(), degree.end(), 1));
+
+    // Directions taken four times over: perpendicular directions coincide, so the mean of
+    // e^{4i theta} points along the dominant grid.
+    std::complex<double> sum = 0.0;
+    double total = 0.0;
+    std::vector<std::pair<double, double>> edges; // (angle, length)
+    for (const auto& [u, v] : p.edges) {
+        const Vec2 d = p.positions[static_cast<std::size_t>(v)] - p.positions[static_cast<std::size_t>(u)];
+        const double l = d.norm();
+        if (!(l > 0.0)) continue;
+        const double angle = std::atan2(d.y(), d.x());
+        sum += l * std::polar(1.0, 4.0 * angle);
+        total += l;
+        edges.emplace_back(angle, l);
+    }
+    if (total > 0.0) {
+        const double axis = std::arg(sum) / 4.0;
+        double deviation = 0.0;
+        for (const auto& [angle, l] : edges) {
+            double d = std::fmod(angle - axis, std::numbers::pi / 2.0);
+            if (d < 0.0) d += std::numbers::pi / 2.0;
+            deviation += l * std::min(d, std::numbers::pi / 2.0 - d);
+        }
+        s.irregularity_deg = deviation / total * 180.0 / std::numbers::pi;
+    }
+    return s;
+}
+
+std::string violated_constraint(const PatternShape& shape, const SelectionConstraints& c) {
+    if (shape.aspect < c.min_aspect) return "aspect ratio below " + std::to_string(c.min_aspect);
+    if (shape.leaves < c.min_leaves) return "fewer than " + std::to_string(c.min_leaves) + " leaves";
+    if (shape.irregularity_deg < c.min_irregularity_deg) {
+        return "more regular than " + std::to_string(c.min_irregularity_deg) + " degrees";
+    }
+    return {};
+}
+
+double description_gain(std::size_t order, std::size_t edges, std::size_t non_overlapping) {
+    const double k = static_cast<double>(order);
+    const double e = static_cast<double>(edges);
+    return static_cast<double>(non_overlapping) * (k - 1.0 + e) - (k + e);
+}
+
+std::vector<SelectedIsogroup> select_isogroups(const std::vector<Isogroup>& isogroups,
+                                               const SelectionConstraints& constraints,
+                                               const SelectionOptions& options, const ProgressCallback& progress) {
+    report(progress, 0.0, "selecting non-overlapping occurrences");
+    // First every group with the quick greedy selection (within a few per cent of the best,
+    // which is enough to rank thousands of groups), then the leading ones again with the
+    // full search, so the groups that matter get the exact or locally searched answer.
+    SelectionOptions quick = options;
+    quick.exact_limit = std::min<std::size_t>(options.exact_limit, 16);
+    quick.local_search_rounds = 0;
+    std::vector<SelectedIsogroup> all(isogroups.size());
+    std::vector<char> keep(isogroups.size(), 0);
+    auto evaluate = [&](std::size_t i, const SelectionOptions& how) {
+        const Isogroup& g = isogroups[i];
+        SelectedIsogroup& s = all[i];
+        SelectionResult r = select_non_overlapping(g.vertices, g.order(), how);
+        s.non_overlapping = std::move(r.chosen);
+        s.exact = r.exact;
+        s.method = std::move(r.method);
+        s.gain = description_gain(g.order(), g.pattern.edges.size(), s.non_overlapping.size());
+    };
+    tbb::parallel_for(std::size_t{0}, isogroups.size(), [&](std::size_t i) {
+        SelectedIsogroup& s = all[i];
+        s.index = i;
+        s.shape = shape_of(isogroups[i].pattern);
+        if (!violated_constraint(s.shape, constraints).empty() || isogroups[i].frequency() == 0) return;
+        keep[i] = 1;
+        evaluate(i, quick);
+    });
+    report(progress, 0.5, "selecting non-overlapping occurrences");
+    std::vector<std::size_t> leading;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        if (keep[i]) leading.push_back(i);
+    }
+    const std::size_t refined = std::min(leading.size(), thorough_count);
+    std::partial_sort(leading.begin(), leading.begin() + static_cast<std::ptrdiff_t>(refined), leading.end(),
+                      [&](std::size_t a, std::size_t b) { return all[a].gain > all[b].gain || (all[a].gain == all[b].gain && a < b); });
+    tbb::parallel_for(std::size_t{0}, refined, [&](std::size_t j) { evaluate(leading[j], options); });
+    report(progress, 1.0, "selecting non-overlapping occurrences");
+    std::vector<SelectedIsogroup> result;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        if (keep[i]) result.push_back(std::move(all[i]));
+    }
+    std::stable_sort(result.begin(), result.end(), [&](const SelectedIsogroup& a, const SelectedIsogroup& b) {
+        if (a.gain != b.gain) return a.gain > b.gain;
+        const auto fa = isogroups[a.index].frequency();
+        const auto fb = isogroups[b.index].frequency();
+        if (fa != fb) return fa > fb;
+        if (isogroups[a.index].order() != isogroups[b.index].order()) {
+            return isogroups[a.index].order() > isogroups[b.index].order();
+        }
+        return a.index < b.index;
+    });
+    return result;
+}
+
+} // namespace ggg
