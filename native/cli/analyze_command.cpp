@@ -68,7 +68,7 @@ void AnalyzeCommand::add_to(CLI::App& app) {
         ->capture_default_str();
     c.add_option("--seed-osm-nodes", seed_osm_nodes_,
                  "Comma-separated OSM node ids: start from the subgraph they induce instead of every edge");
-    c.add_option("--tolerance", tolerance_, "Seed match tolerance, relative to the seed's size")
+    c.add_option("--tolerance", tolerance_, "How far a copy may be from a pattern (seed search, exact recount), relative to its size")
         ->check(CLI::Range(0.0, 0.99))
         ->capture_default_str();
     c.add_option("--scale", scale_, "How sizes compare: similarity (any size), rigid (same size), range (within 2x)")
@@ -91,7 +91,7 @@ int AnalyzeCommand::run() const {
     options.detection.max_order = max_order_;
     options.detection.min_count = min_count_;
     options.detection.scale_mode = scale_mode_from_name(scale_);
-    options.seed_tolerance = tolerance_;
+    options.tolerance = tolerance_;
     options.constraints.min_aspect = min_aspect_;
     options.constraints.min_leaves = min_leaves_;
     options.constraints.min_irregularity_deg = min_irregularity_;

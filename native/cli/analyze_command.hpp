@@ -25,7 +25,7 @@ private:
     int max_order_ = 8;
     std::size_t min_count_ = 2;
     std::string seed_osm_nodes_;
-    double tolerance_ = 0.15;
+    double tolerance_ = 0.2;
     std::string scale_ = "similarity";
     double min_aspect_ = 0.0;
     std::size_t min_leaves_ = 0;

@@ -143,7 +143,7 @@ void bind_analysis(py::module_& m) {
             o.detection.min_count = min_count;
             o.detection.scale_mode = scale_mode_from_name(scale);
             if (seed) o.seed = vertex_list(*seed, g);
-            o.seed_tolerance = tolerance;
+            o.tolerance = tolerance;
             o.constraints.min_aspect = min_aspect;
             o.constraints.min_leaves = min_leaves;
             o.constraints.min_irregularity_deg = min_irregularity;
@@ -153,7 +153,7 @@ void bind_analysis(py::module_& m) {
         },
         py::arg("graph"), py::arg("grid") = std::pair<int, int>{12, 10}, py::arg("cut") = 0.8, py::arg("full") = false,
         py::arg("max_order") = 8, py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("seed") = py::none(),
-        py::arg("tolerance") = 0.15, py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
+        py::arg("tolerance") = 0.2, py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
         py::arg("min_irregularity") = 0.0, py::arg("progress") = py::none(),
         "Find the street patterns that repeat (isogroups) and rank them by description-length gain.\n"
         "grid=(angle cells, distance cells) of the vertex expansion; cut: share of the least frequent patterns not grown\n"
@@ -174,7 +174,7 @@ void bind_analysis(py::module_& m) {
                 AnalyzedIsogroup a;
                 a.group = find_occurrences(g, vertices, o, cb);
                 std::vector<Isogroup> one{a.group};
-                auto selected = select_isogroups(one);
+                auto selected = select_isogroups(g, one);
                 a.selection = std::move(selected.front());
                 return a;
             });

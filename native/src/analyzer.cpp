@@ -22,7 +22,7 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
     const bool seeded = !options.seed.empty();
     if (seeded) {
         SeedSearchOptions s;
-        s.tolerance = options.seed_tolerance;
+        s.tolerance = options.tolerance;
         s.mode = options.detection.scale_mode;
         s.min_scale = options.detection.min_scale;
         s.max_scale = options.detection.max_scale;
@@ -34,16 +34,78 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
     }
 
     std::vector<SelectedIsogroup> selected =
-        select_isogroups(detected.isogroups, options.constraints, options.selection, stage(progress, 0.85, 1.0));
+        select_isogroups(g, detected.isogroups, options.constraints, options.selection, stage(progress, 0.85, 0.9));
+
+    // Recount the leading groups until the leading ones are all recounted (a recount can
+    // only lower a group's gain when the expansion let loose copies in, so a few rounds).
+    std::vector<char> recounted(detected.isogroups.size(), 0);
+    if (seeded && !detected.isogroups.empty()) recounted[0] = 1; // the seed search is exact already
+    SeedSearchOptions exact;
+    exact.tolerance = options.tolerance;
+    exact.mode = options.detection.scale_mode;
+    exact.min_scale = options.detection.min_scale;
+    exact.max_scale = options.detection.max_scale;
+    exact.respect_symbols = options.detection.respect_symbols;
+    for (int round = 0; round < 6 && options.recount_top > 0; ++round) {
+        report(progress, 0.9 + 0.015 * round, "counting the leading patterns exactly");
+        std::vector<std::size_t> todo;
+        for (std::size_t i = 0; i < std::min(options.recount_top, selected.size()); ++i) {
+            if (!recounted[selected[i].index]) todo.push_back(selected[i].index);
+        }
+        if (todo.empty()) break;
+        for (std::size_t index : todo) {
+            Isogroup& group = detected.isogroups[index];
+            if (group.order() < 2 || group.pattern.edges.empty()) {
+                recounted[index] = 1;
+                continue;
+            }
+            Isogroup copies = find_pattern(g, group.pattern, exact);
+            group.vertices = std::move(copies.vertices);
+            group.transforms = std::move(copies.transforms);
+            recounted[index] = 1;
+        }
+        // Two groups that recount to the same pattern are one: keep the better ranked.
+        std::vector<std::size_t> kept;
+        for (const SelectedIsogroup& s : selected) {
+            if (!recounted[s.index]) continue;
+            for (std::size_t other : kept) {
+                const Isogroup& a = detected.isogroups[other];
+                Isogroup& b = detected.isogroups[s.index];
+                if (a.order() == b.order() && a.frequency() == b.frequency() && a.vertices.size() == b.vertices.size()) {
+                    IsomorphismOptions iso;
+                    iso.tolerance = options.detection.merge_tolerance;
+                    iso.respect_symbols = options.detection.respect_symbols;
+                    if (geometrically_isomorphic(a.pattern, b.pattern, iso)) {
+                        b.vertices.clear();
+                        b.transforms.clear();
+                        break;
+                    }
+                }
+            }
+            if (!detected.isogroups[s.index].transforms.empty()) kept.push_back(s.index);
+        }
+        for (SelectedIsogroup& s : selected) {
+            if (std::find(todo.begin(), todo.end(), s.index) != todo.end() || detected.isogroups[s.index].frequency() == 0) {
+                s = select_one(g, detected.isogroups[s.index], s.index, options.selection);
+            }
+        }
+        std::erase_if(selected, [&](const SelectedIsogroup& s) {
+            return !violated_constraint(s.shape, options.constraints).empty() && !(seeded && s.index == 0);
+        });
+        sort_by_gain(selected, detected.isogroups);
+    }
+    // Groups left without occurrences (recounted to nothing, or duplicates) are dropped.
+    std::erase_if(selected, [&](const SelectedIsogroup& s) { return detected.isogroups[s.index].frequency() < options.detection.min_count && !(seeded && s.index == 0); });
+    report(progress, 1.0, "counting the leading patterns exactly");
     if (seeded) {
-        // The seed's group first, whatever the constraints say.
+        // The seed's group first, whatever the constraints say (and the ranking put it).
         auto it = std::find_if(selected.begin(), selected.end(), [](const SelectedIsogroup& s) { return s.index == 0; });
         if (it != selected.end()) {
             std::rotate(selected.begin(), it, it + 1);
         } else {
             SelectionConstraints none;
             std::vector<Isogroup> just_seed{detected.isogroups[0]};
-            auto first = select_isogroups(just_seed, none, options.selection);
+            auto first = select_isogroups(g, just_seed, none, options.selection);
             selected.insert(selected.begin(), std::move(first.front()));
         }
     }
@@ -62,6 +124,7 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
         const long p = detected.parents[i];
         a.parent = p >= 0 ? position[static_cast<std::size_t>(p)] : -1;
         a.score = detected.scores[i];
+        a.recounted = recounted[i] != 0;
         a.selection = std::move(s);
         result.isogroups.push_back(std::move(a));
     }

@@ -17,10 +17,18 @@ struct AnalyzeOptions {
     SelectionConstraints constraints;
     SelectionOptions selection;
     // Empty: automatic analysis from every edge. Else the user's seed: the subgraph
-    // induced by these vertices, searched with seed_tolerance (see SeedSearchOptions; the
+    // induced by these vertices, searched with `tolerance` (see SeedSearchOptions; the
     // scale mode is detection.scale_mode) and grown from there.
     std::vector<VertexId> seed;
-    double seed_tolerance = 0.15;
+    // How far a copy may be from a pattern, relative to the pattern's size, for the seed
+    // search and the recount.
+    double tolerance = 0.2;
+    // The leading isogroups are recounted exactly: their occurrences become every induced
+    // copy of their mean pattern within `tolerance` (find_pattern), whichever path the
+    // expansion took to them. Their counts then no longer depend on what the frequency cut
+    // kept (the full and the pruned analysis agree on them), and they no longer include
+    // loose copies that the coarse polar grid let in. 0 = keep the counts of the expansion.
+    std::size_t recount_top = 8;
 };
 
 struct AnalyzedIsogroup {
@@ -28,6 +36,7 @@ struct AnalyzedIsogroup {
     long parent = -1;   // index in Analysis::isogroups of the group it grew from, or -1
     double score = 0.0; // DetectionResult::scores
     SelectedIsogroup selection; // selection.index is the group's place in detection order
+    bool recounted = false;     // occurrences are every copy within the tolerance
 };
 
 struct Analysis {

@@ -9,11 +9,7 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <bit>
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <complex>
 #include <cstdint>
@@ -607,8 +603,6 @@ void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const 
         a = b;
     }
     const double radius_slack = 1.5 * o.merge_tolerance + 1e-9;
-    std::atomic<std::size_t> iso_tests{0};
-    std::atomic<std::size_t> compares{0};
     tbb::parallel_for(std::size_t{0}, buckets.size(), [&](std::size_t bi) {
         const auto [a, b] = buckets[bi];
         if (b - a < 2) return;
@@ -667,7 +661,6 @@ void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const 
             for (std::size_t position : nearby) {
                 const std::size_t r = representatives[position];
                 Found& rep = found[r];
-                compares.fetch_add(1, std::memory_order_relaxed);
                 bool close = true;
                 for (std::size_t i = 0; i < f.radii.size() && close; ++i) {
                     close = std::abs(f.radii[i] - rep.radii[i]) <= radius_slack;
@@ -681,7 +674,6 @@ void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const 
                             std::abs(f.edge_profile[i].second - rep.edge_profile[i].second) <= 2.0 * radius_slack;
                 }
                 if (!close) continue;
-                iso_tests.fetch_add(1, std::memory_order_relaxed);
                 const auto match = geometrically_isomorphic(f.group.pattern, rep.group.pattern, iso);
                 if (!match) continue;
                 // f's vertex i is rep's vertex mapping[i].
@@ -714,19 +706,14 @@ void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const 
         }
     });
     std::erase_if(found, [](const Found& f) { return f.merged_away; });
-    if (std::getenv("GGG_TRACE")) {
-        std::size_t largest = 0;
-        for (auto [a, b] : buckets) largest = std::max(largest, b - a);
-        std::fprintf(stderr, "merge: %zu groups, %zu buckets, largest %zu, %zu tests, %zu compares\n", order.size(), buckets.size(), largest,
-                     iso_tests.load(), compares.load());
-    }
 }
 
 // Noise splits a pattern's copies: most land in one group, a few take other paths through
 // the polar grids and form small groups whose mean patterns are pulled off by the noise, too
 // far for merge_isomorphic. A small group is folded into one of the dominant groups of its
 // topology when its copies look like that group's own: the median of their residuals from
-// the dominant pattern is within the dominant group's 99th-percentile residual. Only groups at most a quarter as frequent are folded,
+// the dominant pattern is within the dominant group's 99th-percentile residual plus the
+// merge tolerance. Only groups at most a quarter as frequent are folded,
 // and only into the four most frequent groups of the topology, so distinct patterns that
 // are both common stay apart. Folding changes only the groups reported: the groups that
 // are grown keep their own copies (so a folded group never widens the next order, where it
@@ -781,7 +768,7 @@ void absorb_fragments(std::vector<Found>& found, const GeometricGraph& g, const 
                 std::vector<double> r = residuals_against(f.group, rep.group.pattern.positions, inverse, g);
                 const auto median = r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2);
                 std::nth_element(r.begin(), median, r.end());
-                if (!(*median <= rep.spread)) continue;
+                if (!(*median <= reach)) continue;
                 const std::size_t k = f.group.order();
                 std::vector<VertexId> remapped(k);
                 for (std::size_t i = 0; i < f.group.frequency(); ++i) {
@@ -991,14 +978,6 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
             break;
         }
 
-        const bool trace = std::getenv("GGG_TRACE") != nullptr;
-        auto clock = std::chrono::steady_clock::now();
-        auto lap = [&](const char* what) {
-            if (!trace) return;
-            const auto now = std::chrono::steady_clock::now();
-            std::fprintf(stderr, "order %d %-10s %.3f s\n", order + 1, what, std::chrono::duration<double>(now - clock).count());
-            clock = now;
-        };
         std::vector<Parent> parents(expand.size());
         tbb::parallel_for(std::size_t{0}, expand.size(), [&](std::size_t i) {
             parents[i].group = &growing[i];
@@ -1021,7 +1000,6 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
             collect_candidates(g, adjacency, parents[units[u].parent], grid, o.respect_symbols, units[u].begin,
                                units[u].end, unit_candidates[u]);
         });
-        lap("collect");
         report(progress, (order - 1 + 0.3) / static_cast<double>(last_order - 1), message);
 
         // Gather per parent (units of a parent are consecutive and in occurrence order).
@@ -1053,11 +1031,9 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
         }
         per_parent_children = {};
         r.children = children.size();
-        lap("children");
         report(progress, (order - 1 + 0.7) / static_cast<double>(last_order - 1), message);
 
         tbb::parallel_for(std::size_t{0}, children.size(), [&](std::size_t i) { describe(children[i], o.respect_symbols, g); });
-        lap("describe");
         merge_isomorphic(children, g, o);
         if (order == 2) {
             // Groups of two edges: here noise is largest relative to the pattern, and the
@@ -1065,9 +1041,7 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
             absorb_fragments(children, g, o, std::vector<char>(children.size(), 0));
             std::erase_if(children, [](const Found& f) { return f.merged_away; });
         }
-        lap("merge");
         assign_to_one_group(children, g);
-        lap("assign");
         std::erase_if(children, [&](const Found& f) { return f.group.frequency() < o.min_count; });
         tbb::parallel_for(std::size_t{0}, children.size(), [&](std::size_t i) {
             if (children[i].radii.size() != children[i].group.order()) describe(children[i], o.respect_symbols, g);
@@ -1093,7 +1067,9 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
         // patches of the same grid all repeat and the few most frequent hold most copies.
         std::size_t keep = children.size();
         std::vector<char> expanded(children.size(), 0);
-        if (o.full) {
+        if (order + 1 >= last_order) {
+            keep = 0; // the last order: nothing is grown
+        } else if (o.full) {
             std::fill(expanded.begin(), expanded.end(), 1);
         } else {
             const int step = order - 1; // 1 for the expansion to order 3
@@ -1118,7 +1094,6 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
             if (expanded[i]) next_growing.push_back(children[i].group);
         }
         absorb_fragments(children, g, o, expanded);
-        lap("absorb");
         ++order;
         r.expanded_next = std::min(keep, children.size());
         r.groups = 0;

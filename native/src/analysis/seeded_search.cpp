@@ -126,7 +126,9 @@ public:
         epsilon_ = tau * size * 1.05 + 1e-9;
         mapping_[static_cast<std::size_t>(a)] = u;
         mapping_[static_cast<std::size_t>(b)] = v;
-        used_ = {u, v};
+        used_.clear();
+        used_.push_back(u);
+        used_.push_back(v);
         place(2, found);
     }
 
@@ -184,20 +186,17 @@ private:
     double epsilon_ = 0.0;
 };
 
-} // namespace
 
-Isogroup find_occurrences(const GeometricGraph& g, std::span<const VertexId> seed, const SeedSearchOptions& o,
-                          const ProgressCallback& progress) {
-    if (!std::isfinite(o.tolerance) || o.tolerance < 0.0 || o.tolerance >= 1.0) {
-        throw UsageError("seed search tolerance must be in [0, 1), got " + std::to_string(o.tolerance));
-    }
-    if (seed.size() < 2) throw UsageError("a seed needs at least two vertices joined by a street");
-    const Adjacency adj(g);
-    Similarity2 seed_frame;
-    const Pattern pattern = induced_pattern(g, adj, seed, &seed_frame); // validates ids
-    if (spread_of(pattern.positions).degenerate) throw UsageError("the seed's vertices all lie at one point");
+// Every induced copy of `pattern` in g (see the header), in the order of g's edges: vertex
+// lists in pattern order and their transforms.
+struct Copies {
+    std::vector<std::vector<VertexId>> vertices;
+    std::vector<Similarity2> transforms;
+};
+
+Copies search(const GeometricGraph& g, const Adjacency& adj, const Pattern& pattern, const SeedSearchOptions& o,
+              const ProgressCallback& progress) {
     const Plan plan = plan_for(pattern);
-
     IsomorphismOptions iso;
     iso.tolerance = o.tolerance;
     iso.mode = o.mode;
@@ -259,6 +258,33 @@ Isogroup find_occurrences(const GeometricGraph& g, std::span<const VertexId> see
         }
     });
 
+    Copies copies;
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+        if (!accepted[i]) continue;
+        copies.vertices.push_back(std::move(ordered[i]));
+        copies.transforms.push_back(transforms[i]);
+    }
+    return copies;
+}
+
+void check_tolerance(const SeedSearchOptions& o) {
+    if (!std::isfinite(o.tolerance) || o.tolerance < 0.0 || o.tolerance >= 1.0) {
+        throw UsageError("seed search tolerance must be in [0, 1), got " + std::to_string(o.tolerance));
+    }
+}
+
+} // namespace
+
+Isogroup find_occurrences(const GeometricGraph& g, std::span<const VertexId> seed, const SeedSearchOptions& o,
+                          const ProgressCallback& progress) {
+    check_tolerance(o);
+    if (seed.size() < 2) throw UsageError("a seed needs at least two vertices joined by a street");
+    const Adjacency adj(g);
+    Similarity2 seed_frame;
+    const Pattern pattern = induced_pattern(g, adj, seed, &seed_frame); // validates ids
+    if (spread_of(pattern.positions).degenerate) throw UsageError("the seed's vertices all lie at one point");
+    Copies copies = search(g, adj, pattern, o, progress);
+
     Isogroup group;
     group.pattern = pattern;
     std::vector<VertexId> seed_sorted(seed.begin(), seed.end());
@@ -266,15 +292,33 @@ Isogroup find_occurrences(const GeometricGraph& g, std::span<const VertexId> see
     // The seed itself first, in the seed's own vertex order.
     group.vertices.assign(seed.begin(), seed.end());
     group.transforms.push_back(seed_frame);
-    for (std::size_t i = 0; i < candidates.size(); ++i) {
-        if (!accepted[i]) continue;
-        std::vector<VertexId> key(candidates[i]);
+    for (std::size_t i = 0; i < copies.vertices.size(); ++i) {
+        std::vector<VertexId> key(copies.vertices[i]);
         std::sort(key.begin(), key.end());
         if (key == seed_sorted) continue;
-        group.vertices.insert(group.vertices.end(), ordered[i].begin(), ordered[i].end());
-        group.transforms.push_back(transforms[i]);
+        group.vertices.insert(group.vertices.end(), copies.vertices[i].begin(), copies.vertices[i].end());
+        group.transforms.push_back(copies.transforms[i]);
     }
     report(progress, 1.0, "searching for the seed");
+    return group;
+}
+
+Isogroup find_pattern(const GeometricGraph& g, const Pattern& pattern, const SeedSearchOptions& o,
+                      const ProgressCallback& progress) {
+    check_tolerance(o);
+    if (const std::string problem = check_pattern(pattern); !problem.empty()) throw UsageError("pattern: " + problem);
+    if (pattern.size() < 2 || pattern.edges.empty()) throw UsageError("pattern: a pattern to search needs an edge");
+    if (spread_of(pattern.positions).degenerate) throw UsageError("pattern: its vertices all lie at one point");
+    const Adjacency adj(g);
+    // The plan starts from an edge and walks the pattern's edges: it must be connected.
+    Copies copies = search(g, adj, pattern, o, progress);
+    Isogroup group;
+    group.pattern = pattern;
+    for (std::size_t i = 0; i < copies.vertices.size(); ++i) {
+        group.vertices.insert(group.vertices.end(), copies.vertices[i].begin(), copies.vertices[i].end());
+        group.transforms.push_back(copies.transforms[i]);
+    }
+    report(progress, 1.0, "searching for the pattern");
     return group;
 }
 

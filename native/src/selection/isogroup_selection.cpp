@@ -73,16 +73,41 @@ std::string violated_constraint(const PatternShape& shape, const SelectionConstr
     return {};
 }
 
-double description_gain(std::size_t order, std::size_t edges, std::size_t non_overlapping) {
+double description_gain(std::size_t order, std::size_t edges, std::size_t non_overlapping, std::size_t outside_edges) {
     const double k = static_cast<double>(order);
     const double e = static_cast<double>(edges);
-    return static_cast<double>(non_overlapping) * (k - 1.0 + e) - (k + e);
+    return static_cast<double>(non_overlapping) * (2.0 * k + 2.0 * e - 5.0) - static_cast<double>(outside_edges) -
+           (2.0 * k + 2.0 * e);
 }
 
-std::vector<SelectedIsogroup> select_isogroups(const std::vector<Isogroup>& isogroups,
+namespace {
+
+std::vector<std::uint32_t> degrees_of(const GeometricGraph& g) {
+    std::vector<std::uint32_t> d(g.vertex_count(), 0);
+    for (const auto& [u, v] : g.edges) {
+        ++d[static_cast<std::size_t>(u)];
+        ++d[static_cast<std::size_t>(v)];
+    }
+    return d;
+}
+
+double gain_of(const Isogroup& group, const std::vector<std::uint32_t>& chosen, const std::vector<std::uint32_t>& degree) {
+    std::size_t outside = 0;
+    for (std::uint32_t i : chosen) {
+        std::size_t sum = 0;
+        for (VertexId v : group.occurrence(i)) sum += degree[static_cast<std::size_t>(v)];
+        outside += sum - 2 * group.pattern.edges.size();
+    }
+    return description_gain(group.order(), group.pattern.edges.size(), chosen.size(), outside);
+}
+
+} // namespace
+
+std::vector<SelectedIsogroup> select_isogroups(const GeometricGraph& graph, const std::vector<Isogroup>& isogroups,
                                                const SelectionConstraints& constraints,
                                                const SelectionOptions& options, const ProgressCallback& progress) {
     report(progress, 0.0, "selecting non-overlapping occurrences");
+    const std::vector<std::uint32_t> degree = degrees_of(graph);
     // First every group with the quick greedy selection (within a few per cent of the best,
     // which is enough to rank thousands of groups), then the leading ones again with the
     // full search, so the groups that matter get the exact or locally searched answer.
@@ -98,7 +123,7 @@ std::vector<SelectedIsogroup> select_isogroups(const std::vector<Isogroup>& isog
         s.non_overlapping = std::move(r.chosen);
         s.exact = r.exact;
         s.method = std::move(r.method);
-        s.gain = description_gain(g.order(), g.pattern.edges.size(), s.non_overlapping.size());
+        s.gain = gain_of(g, s.non_overlapping, degree);
     };
     tbb::parallel_for(std::size_t{0}, isogroups.size(), [&](std::size_t i) {
         SelectedIsogroup& s = all[i];
@@ -122,7 +147,12 @@ std::vector<SelectedIsogroup> select_isogroups(const std::vector<Isogroup>& isog
     for (std::size_t i = 0; i < all.size(); ++i) {
         if (keep[i]) result.push_back(std::move(all[i]));
     }
-    std::stable_sort(result.begin(), result.end(), [&](const SelectedIsogroup& a, const SelectedIsogroup& b) {
+    sort_by_gain(result, isogroups);
+    return result;
+}
+
+void sort_by_gain(std::vector<SelectedIsogroup>& selected, const std::vector<Isogroup>& isogroups) {
+    std::stable_sort(selected.begin(), selected.end(), [&](const SelectedIsogroup& a, const SelectedIsogroup& b) {
         if (a.gain != b.gain) return a.gain > b.gain;
         const auto fa = isogroups[a.index].frequency();
         const auto fb = isogroups[b.index].frequency();
@@ -132,7 +162,19 @@ std::vector<SelectedIsogroup> select_isogroups(const std::vector<Isogroup>& isog
         }
         return a.index < b.index;
     });
-    return result;
+}
+
+SelectedIsogroup select_one(const GeometricGraph& g, const Isogroup& group, std::size_t index, const SelectionOptions& options) {
+    SelectedIsogroup s;
+    s.index = index;
+    s.shape = shape_of(group.pattern);
+    if (group.frequency() == 0) return s;
+    SelectionResult r = select_non_overlapping(group.vertices, group.order(), options);
+    s.non_overlapping = std::move(r.chosen);
+    s.exact = r.exact;
+    s.method = std::move(r.method);
+    s.gain = gain_of(group, s.non_overlapping, degrees_of(g));
+    return s;
 }
 
 } // namespace ggg

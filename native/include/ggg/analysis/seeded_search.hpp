@@ -35,4 +35,11 @@ struct SeedSearchOptions {
 Isogroup find_occurrences(const GeometricGraph& g, std::span<const VertexId> seed,
                           const SeedSearchOptions& options = {}, const ProgressCallback& progress = {});
 
+// Every induced copy of a pattern (e.g. an isogroup's mean pattern) in g, in the order of
+// g's edges: the same search without a seed in the graph. The pattern must be connected,
+// with at least one edge; sizes compare as options.mode says (patterns from the analyzer
+// carry their size in metres_per_unit). Throws UsageError for a malformed pattern.
+Isogroup find_pattern(const GeometricGraph& g, const Pattern& pattern, const SeedSearchOptions& options = {},
+                      const ProgressCallback& progress = {});
+
 } // namespace ggg

@@ -2,15 +2,18 @@
 // Isogroup selection (paper 5.2): which of the detected isogroups is worth a grammar rule.
 //
 // The paper takes "the largest from the most frequently repeated" isogroups. We make that
-// a number, the description-length gain of encoding an isogroup (pipeline step 4): each of
-// its m non-overlapping occurrences (k vertices, e edges inside) becomes one nonterminal
-// vertex, which removes k - 1 vertices and e edges per occurrence, and one rule of k
-// vertices and e edges is added:
+// a number, the description-length gain of encoding an isogroup (pipeline step 4), counted
+// in the numbers a graph file stores: 2 per vertex (its coordinates), 2 per edge (its
+// ends). Each of the m non-overlapping occurrences (k vertices, e edges inside, x edges to
+// the rest of the graph) becomes one nonterminal vertex with a symbol and a frame (5
+// numbers), and each of its x outside edges must say which inside vertex it meets (1
+// number); one rule of k vertices and e edges is stored once:
 //
-//     gain = m (k - 1 + e) - (k + e)
+//     gain = sum over the m occurrences of (2k + 2e - 5 - x)  -  (2k + 2e)
 //
-// It grows with both size and frequency, it is negative for a pattern that occurs once,
-// and it is what the encoder saves, so ranking by it ranks by compression.
+// It grows with size and frequency, it is negative for a pattern that occurs once, and it
+// is negative for single edges and most short paths, whose outside edges cost more than
+// they save: what is worth a rule is what a grammar compresses.
 //
 // Constraints (paper Fig. 18a) filter the ranking: a near-square overall shape, many
 // leaves (dead ends and streets that leave the pattern), or an irregular street layout.
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include "ggg/analysis/pattern.hpp"
+#include "ggg/geometric_graph.hpp"
 #include "ggg/progress.hpp"
 #include "ggg/selection/non_overlapping.hpp"
 
@@ -47,7 +51,8 @@ struct SelectionConstraints {
 // Empty when p passes, else why not.
 std::string violated_constraint(const PatternShape& shape, const SelectionConstraints& c);
 
-double description_gain(std::size_t order, std::size_t edges, std::size_t non_overlapping);
+// `outside_edges`: the sum of x over the m occurrences.
+double description_gain(std::size_t order, std::size_t edges, std::size_t non_overlapping, std::size_t outside_edges);
 
 struct SelectedIsogroup {
     std::size_t index = 0;                    // into the isogroups passed in
@@ -64,9 +69,16 @@ struct SelectedIsogroup {
 // occurrences); the 64 leading groups are then selected again with `options`, so the
 // groups a user or the encoder picks carry the full answer and its method. Deterministic;
 // independent of the number of threads.
-std::vector<SelectedIsogroup> select_isogroups(const std::vector<Isogroup>& isogroups,
+std::vector<SelectedIsogroup> select_isogroups(const GeometricGraph& g, const std::vector<Isogroup>& isogroups,
                                                const SelectionConstraints& constraints = {},
                                                const SelectionOptions& options = {},
                                                const ProgressCallback& progress = {});
+
+// The ranking select_isogroups uses: best gain first, then more occurrences, larger order,
+// lower index. For re-ranking after some groups changed.
+void sort_by_gain(std::vector<SelectedIsogroup>& selected, const std::vector<Isogroup>& isogroups);
+
+// The full selection (with `options`) of one group, as select_isogroups reports it.
+SelectedIsogroup select_one(const GeometricGraph& g, const Isogroup& group, std::size_t index, const SelectionOptions& options = {});
 
 } // namespace ggg
