@@ -79,6 +79,8 @@ void AnalyzeCommand::add_to(CLI::App& app) {
     c.add_option("--min-irregularity", min_irregularity_, "Only patterns at least this irregular, in degrees (0..45)")
         ->check(CLI::Range(0.0, 45.0));
     c.add_option("--top", top_, "Print only the best N isogroups (0 = all)");
+    c.add_option("--recount", recount_, "Count the leading N patterns exactly, every copy within --tolerance (0 = off)")
+        ->capture_default_str();
     c.add_flag("--occurrences", occurrences_, "List the OSM node ids of every occurrence");
     c.add_flag("--stats", stats_, "Also report per-order counts and peak memory");
 }
@@ -92,6 +94,7 @@ int AnalyzeCommand::run() const {
     options.detection.min_count = min_count_;
     options.detection.scale_mode = scale_mode_from_name(scale_);
     options.tolerance = tolerance_;
+    options.recount_top = recount_;
     options.constraints.min_aspect = min_aspect_;
     options.constraints.min_leaves = min_leaves_;
     options.constraints.min_irregularity_deg = min_irregularity_;
@@ -131,7 +134,8 @@ int AnalyzeCommand::run() const {
                          {"gain", a.selection.gain},
                          {"selection_exact", a.selection.exact},
                          {"parent", a.parent},
-                         {"size_m", a.group.pattern.metres_per_unit}};
+                         {"size_m", a.group.pattern.metres_per_unit},
+                         {"recounted", a.recounted}};
         if (occurrences_) {
             nlohmann::json list = nlohmann::json::array();
             for (std::size_t o = 0; o < a.group.frequency(); ++o) {

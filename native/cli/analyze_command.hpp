@@ -31,6 +31,7 @@ private:
     std::size_t min_leaves_ = 0;
     double min_irregularity_ = 0.0;
     std::size_t top_ = 0;
+    std::size_t recount_ = 0;
     bool occurrences_ = false;
     bool stats_ = false;
 };

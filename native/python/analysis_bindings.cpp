@@ -92,6 +92,8 @@ void bind_analysis(py::module_& m) {
                                "Description-length gain of encoding the non-overlapping occurrences")
         .def_property_readonly("score", [](const AnalyzedIsogroup& a) { return a.score; },
                                "Frequency x convex-hull area added by the last vertex (paper 5.1)")
+        .def_property_readonly("recounted", [](const AnalyzedIsogroup& a) { return a.recounted; },
+                               "True when the occurrences are every copy within the tolerance (exact recount)")
         .def_property_readonly("parent", [](const AnalyzedIsogroup& a) { return a.parent; },
                                "Index of the isogroup this one grew from, or -1")
         .def_property_readonly("pattern_positions", [](const AnalyzedIsogroup& a) { return points(a.group.pattern.positions); },
@@ -132,7 +134,7 @@ void bind_analysis(py::module_& m) {
         "analyze",
         [](const GeometricGraph& g, std::pair<int, int> grid, double cut, bool full, int max_order, std::size_t min_count,
            const std::string& scale, std::optional<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>> seed,
-           double tolerance, double min_aspect, std::size_t min_leaves, double min_irregularity,
+           double tolerance, double min_aspect, std::size_t min_leaves, double min_irregularity, std::size_t recount,
            std::optional<py::function> progress) {
             AnalyzeOptions o;
             o.detection.angle_cells = grid.first;
@@ -144,6 +146,7 @@ void bind_analysis(py::module_& m) {
             o.detection.scale_mode = scale_mode_from_name(scale);
             if (seed) o.seed = vertex_list(*seed, g);
             o.tolerance = tolerance;
+            o.recount_top = recount;
             o.constraints.min_aspect = min_aspect;
             o.constraints.min_leaves = min_leaves;
             o.constraints.min_irregularity_deg = min_irregularity;
@@ -154,11 +157,12 @@ void bind_analysis(py::module_& m) {
         py::arg("graph"), py::arg("grid") = std::pair<int, int>{12, 10}, py::arg("cut") = 0.8, py::arg("full") = false,
         py::arg("max_order") = 8, py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("seed") = py::none(),
         py::arg("tolerance") = 0.2, py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
-        py::arg("min_irregularity") = 0.0, py::arg("progress") = py::none(),
+        py::arg("min_irregularity") = 0.0, py::arg("recount") = 0, py::arg("progress") = py::none(),
         "Find the street patterns that repeat (isogroups) and rank them by description-length gain.\n"
         "grid=(angle cells, distance cells) of the vertex expansion; cut: share of the least frequent patterns not grown\n"
         "further; full=True grows all; seed: vertex ids of a connected piece to start from (its isogroup comes first).\n"
-        "min_aspect / min_leaves / min_irregularity: selection constraints. progress(fraction, message) may return False\n"
+        "min_aspect / min_leaves / min_irregularity: selection constraints. recount: the leading N isogroups are counted\n"
+        "exactly (every copy within `tolerance`). progress(fraction, message) may return False\n"
         "to cancel (raises ggg.Cancelled).");
 
     m.def(

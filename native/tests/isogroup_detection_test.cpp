@@ -228,6 +228,7 @@ TEST(IsogroupDetection, PrunedFindsTheLeadingPatternsOfTheFullAnalysisOnBarcelon
     const GeometricGraph g = read_graph(test::shared_osm_dir() + "/barcelona_eixample.osm");
     AnalyzeOptions o;
     o.detection.max_order = 6;
+    o.recount_top = 8;
     const Analysis pruned = analyze(g, o);
     o.detection.full = true;
     const Analysis full = analyze(g, o);

@@ -28,7 +28,9 @@ struct AnalyzeOptions {
     // expansion took to them. Their counts then no longer depend on what the frequency cut
     // kept (the full and the pruned analysis agree on them), and they no longer include
     // loose copies that the coarse polar grid let in. 0 = keep the counts of the expansion.
-    std::size_t recount_top = 8;
+    // A recount is a search over the whole graph: milliseconds on a district, seconds per
+    // pattern on a metropolitan graph, so it is off unless asked for.
+    std::size_t recount_top = 0;
 };
 
 struct AnalyzedIsogroup {

@@ -103,27 +103,15 @@ public:
         : g_(g), adj_(adj), plan_(plan), o_(o), seed_size_(seed_size), k_(plan.order.size()), mapping_(k_, -1) {}
 
     void from(VertexId u, VertexId v, std::vector<std::vector<VertexId>>& found) {
-        const Pattern& p = plan_.pattern;
         const int a = plan_.a;
         const int b = plan_.b;
         if (!fits(a, u) || !fits(b, v)) return;
-        // The similarity putting pattern a on u and b on v.
-        const Vec2 pa = p.positions[static_cast<std::size_t>(a)];
-        const Vec2 pb = p.positions[static_cast<std::size_t>(b)];
-        const Vec2 gu = g_.positions[static_cast<std::size_t>(u)];
-        const Vec2 gv = g_.positions[static_cast<std::size_t>(v)];
-        const Vec2 dp = pb - pa;
-        const Vec2 dg = gv - gu;
-        const double n = dp.squaredNorm();
-        frame_.a = (dp.x() * dg.x() + dp.y() * dg.y()) / n;
-        frame_.b = (dp.x() * dg.y() - dp.y() * dg.x()) / n;
-        frame_.t = gu - frame_.apply_linear(pa);
-        // Error budget in metres: tau times the copy's RMS size, which the two ends bound.
-        const double tau = o_.tolerance;
-        const double l = plan_.length;
-        double size = frame_.scale() * (l > 2.0 * tau ? l / (l - 2.0 * tau) : 1e9);
-        if (o_.mode == IsomorphismOptions::Scale::rigid) size = std::max(size, seed_size_ * (1.0 + tau));
-        epsilon_ = tau * size * 1.05 + 1e-9;
+        if (o_.mode == IsomorphismOptions::Scale::rigid) {
+            // The start edge's length bounds the copy's size: skip edges far off the seed's.
+            const double ratio = (g_.positions[static_cast<std::size_t>(v)] - g_.positions[static_cast<std::size_t>(u)]).norm() /
+                                 (plan_.length * seed_size_);
+            if (ratio > 1.0 + 4.0 * o_.tolerance + 0.5 || ratio < 0.5 - 4.0 * o_.tolerance) return;
+        }
         mapping_[static_cast<std::size_t>(a)] = u;
         mapping_[static_cast<std::size_t>(b)] = v;
         used_.clear();
@@ -145,9 +133,45 @@ private:
         }
         const int c = plan_.order[depth];
         const VertexId from = mapping_[static_cast<std::size_t>(plan_.anchor[depth])];
-        const Vec2 want = frame_.apply(plan_.pattern.positions[static_cast<std::size_t>(c)]);
-        const double reach =
-            epsilon_ * (2.0 + 2.0 * (plan_.pattern.positions[static_cast<std::size_t>(c)] - plan_.middle).norm() / plan_.length);
+        // Least-squares similarity of the vertices placed so far (the set S). If a copy
+        // passes with transform T* and error eps = tau * scale(T*) per vertex, then the
+        // difference D = T_S - T* has RMS at most 2 eps over S, so at a point p at distance
+        // d from S's centroid |D(p)| <= 2 eps sqrt(1 + d^2 / r_S^2), r_S being S's RMS
+        // radius; and scale(T*) <= scale(T_S) / (1 - 2 tau / r_S). Hence the window below,
+        // which tightens as S grows and never cuts a true copy off.
+        const Pattern& p = plan_.pattern;
+        Vec2 pc = Vec2::Zero();
+        Vec2 gc = Vec2::Zero();
+        for (std::size_t i = 0; i < depth; ++i) {
+            const int x = plan_.order[i];
+            pc += p.positions[static_cast<std::size_t>(x)];
+            gc += g_.positions[static_cast<std::size_t>(mapping_[static_cast<std::size_t>(x)])];
+        }
+        pc /= static_cast<double>(depth);
+        gc /= static_cast<double>(depth);
+        double re = 0.0;
+        double im = 0.0;
+        double r2 = 0.0;
+        for (std::size_t i = 0; i < depth; ++i) {
+            const int x = plan_.order[i];
+            const Vec2 dp = p.positions[static_cast<std::size_t>(x)] - pc;
+            const Vec2 dg = g_.positions[static_cast<std::size_t>(mapping_[static_cast<std::size_t>(x)])] - gc;
+            re += dp.x() * dg.x() + dp.y() * dg.y();
+            im += dp.x() * dg.y() - dp.y() * dg.x();
+            r2 += dp.squaredNorm();
+        }
+        if (!(r2 > 0.0)) return;
+        const double rs = std::sqrt(r2 / static_cast<double>(depth));
+        const double fa = re / r2;
+        const double fb = im / r2;
+        const double tau = o_.tolerance;
+        double size = std::hypot(fa, fb) * (rs > 2.0 * tau ? 1.0 / (1.0 - 2.0 * tau / rs) : 1e9);
+        if (o_.mode == IsomorphismOptions::Scale::rigid) size = std::max(size, seed_size_ * (1.0 + tau));
+        const double eps = tau * size * 1.02 + 1e-9;
+        const Vec2 q = p.positions[static_cast<std::size_t>(c)] - pc;
+        const Vec2 want = gc + Vec2(fa * q.x() - fb * q.y(), fb * q.x() + fa * q.y());
+        const double d = q.norm();
+        const double reach = eps + 2.0 * eps * std::sqrt(1.0 + d * d / (rs * rs));
         const auto f = static_cast<std::size_t>(from);
         for (auto e = adj_.offsets[f]; e < adj_.offsets[f + 1]; ++e) {
             const VertexId w = adj_.neighbors[static_cast<std::size_t>(e)];
@@ -182,8 +206,6 @@ private:
     std::size_t k_;
     std::vector<VertexId> mapping_;
     std::vector<VertexId> used_;
-    Similarity2 frame_;
-    double epsilon_ = 0.0;
 };
 
 
