@@ -37,7 +37,8 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
         select_isogroups(g, detected.isogroups, options.constraints, options.selection, stage(progress, 0.85, 0.9));
 
     // Recount the leading groups, then the ones that the new ranking brings up (a recount
-    // lowers a group's gain when the expansion let loose copies in): two rounds.
+    // lowers a group's gain when the expansion let loose copies in), until the leading
+    // groups are all recounted (at most eight rounds).
     std::vector<char> recounted(detected.isogroups.size(), 0);
     if (seeded && !detected.isogroups.empty()) recounted[0] = 1; // the seed search is exact already
     SeedSearchOptions exact;
@@ -46,8 +47,8 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
     exact.min_scale = options.detection.min_scale;
     exact.max_scale = options.detection.max_scale;
     exact.respect_symbols = options.detection.respect_symbols;
-    for (int round = 0; round < 2 && options.recount_top > 0; ++round) {
-        report(progress, 0.9 + 0.015 * round, "counting the leading patterns exactly");
+    for (int round = 0; round < 8 && options.recount_top > 0; ++round) {
+        report(progress, 0.9 + 0.01 * round, "counting the leading patterns exactly");
         std::vector<std::size_t> todo;
         for (std::size_t i = 0; i < std::min(options.recount_top, selected.size()); ++i) {
             if (!recounted[selected[i].index]) todo.push_back(selected[i].index);
