@@ -9,7 +9,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev
   pybind11-dev python3-dev python3-numpy python3-pytest
   libgtest-dev libgmock-dev libbenchmark-dev
-  blender zip xvfb xauth python3-matplotlib
+  blender zip xvfb xauth python3-matplotlib time
   # Blender opens OpenGL at run time (libepoxy); headless Eevee renders and the windowed
   # undo test under Xvfb need Mesa's software renderer, which Blender does not depend on.
   libgl1 libegl1 libglx-mesa0 libegl-mesa0 libgl1-mesa-dri
