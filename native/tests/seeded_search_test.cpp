@@ -127,7 +127,13 @@ TEST(SeededSearch, BadSeedsAreUsageErrors) {
     const GeometricGraph g = test::make_grid({.n = 4});
     EXPECT_THROW(find_occurrences(g, std::vector<VertexId>{}), UsageError);
     EXPECT_THROW(find_occurrences(g, std::vector<VertexId>{3}), UsageError);
-    EXPECT_THROW(find_occurrences(g, std::vector<VertexId>{0, 15}), UsageError);  // not connected
+    try {
+        find_occurrences(g, std::vector<VertexId>{0, 15});
+        ADD_FAILURE() << "a seed that is not connected was accepted";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("not connected"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(find_occurrences(g, std::vector<VertexId>{0, 1, 10}), UsageError); // 10 hangs off nothing
     EXPECT_THROW(find_occurrences(g, std::vector<VertexId>{0, 99}), UsageError);  // not in the graph
     EXPECT_THROW(find_occurrences(g, std::vector<VertexId>{0, 1, 0}), UsageError); // repeated
 }

@@ -36,6 +36,7 @@ Plan plan_for(const Pattern& p) {
         plan.neighbours[static_cast<std::size_t>(u)].push_back(v);
         plan.neighbours[static_cast<std::size_t>(v)].push_back(u);
     }
+    if (p.edges.empty()) throw UsageError("the seed is not connected: select vertices joined by streets");
     // The longest edge pins the frame best.
     for (const auto& [u, v] : p.edges) {
         const double l = (p.positions[static_cast<std::size_t>(u)] - p.positions[static_cast<std::size_t>(v)]).norm();
