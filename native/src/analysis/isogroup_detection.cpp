@@ -426,7 +426,7 @@ struct Found {
     std::vector<std::pair<std::uint64_t, double>> edge_profile;
     // The 99th percentile over the occurrences of their largest vertex residual from the
     // pattern (canonical units): how far this group's own copies stray (see absorb_fragments).
-    double spread = 0.0;
+    double spread = -1.0; // not computed yet
     bool merged_away = false;
 };
 
@@ -462,7 +462,6 @@ double spread_of_group(const Isogroup& group, const GeometricGraph& g) {
 }
 
 void describe(Found& f, bool with_symbols, const GeometricGraph& g) {
-    f.spread = spread_of_group(f.group, g);
     const auto& p = f.group.pattern.positions;
     f.hash = invariant_hash(f.group.pattern, with_symbols);
     f.radii.resize(p.size());
@@ -702,7 +701,6 @@ void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const 
         for (std::size_t r : touched) {
             deduplicate(found[r].group);
             refine(found[r].group, g);
-            found[r].spread = spread_of_group(found[r].group, g);
         }
     });
     std::erase_if(found, [](const Found& f) { return f.merged_away; });
@@ -749,6 +747,7 @@ void absorb_fragments(std::vector<Found>& found, const GeometricGraph& g, const 
             for (std::size_t h = 0; h < heads && a + h < x; ++h) {
                 Found& rep = found[order[a + h]];
                 if (static_cast<double>(f.group.frequency()) * ratio > static_cast<double>(rep.group.frequency())) continue;
+                if (rep.spread < 0.0) rep.spread = spread_of_group(rep.group, g);
                 const double reach = rep.spread + o.merge_tolerance;
                 const double slack = 1.5 * reach;
                 bool close = true;

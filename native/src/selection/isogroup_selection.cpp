@@ -114,6 +114,7 @@ std::vector<SelectedIsogroup> select_isogroups(const GeometricGraph& graph, cons
     SelectionOptions quick = options;
     quick.exact_limit = std::min<std::size_t>(options.exact_limit, 16);
     quick.local_search_rounds = 0;
+    quick.prove = false;
     std::vector<SelectedIsogroup> all(isogroups.size());
     std::vector<char> keep(isogroups.size(), 0);
     auto evaluate = [&](std::size_t i, const SelectionOptions& how) {

@@ -677,6 +677,13 @@ SelectionResult select(const OverlapGraph& graph, const SelectionOptions& option
         const bool small = s <= exact_limit;
         LocalSearch search(g, greedy_min_degree(g));
         search.descend();
+        if (!options.prove) {
+            heuristic_used = true;
+            result.exact = false;
+            result.upper_bound += s;
+            for (const std::uint32_t a : to_members(search.solution())) result.chosen.push_back(component[a]);
+            continue;
+        }
         std::uint32_t bound = index_cover_bound(g);
         if (!small && search.count() < bound) {
             bound = std::min(bound, guided_cover_bound(g, search.solution()));
@@ -720,7 +727,8 @@ SelectionResult select(const OverlapGraph& graph, const SelectionOptions& option
         for (const std::uint32_t a : best) result.chosen.push_back(component[a]);
     }
     std::sort(result.chosen.begin(), result.chosen.end());
-    result.method = heuristic_used ? kHeuristicMethod : kExactMethod;
+    result.method = heuristic_used ? (options.prove ? kHeuristicMethod : "greedy min-degree + swaps, unproven")
+                                   : kExactMethod;
     return result;
 }
 

@@ -55,6 +55,11 @@ struct SelectionOptions {
     // On hard synthetic inputs round 1 adds about 4 % over the greedy set, later rounds
     // well under 1 % each; on grid-like inputs the greedy set is already optimal.
     int local_search_rounds = 1;
+    // false: only the greedy minimum-degree set and its (1,2)-swap local optimum, no upper
+    // bounds, no branch and bound (`exact` then holds only where every component has at
+    // most two occurrences, and upper_bound is the number of occurrences). For ranking
+    // thousands of groups, where a few per cent do not matter.
+    bool prove = true;
     // Seed of the perturbations; the same input, options and seed give the same result.
     std::uint64_t seed = 1;
     // Branch-and-bound nodes allowed per component; a node of a component of s > 64
