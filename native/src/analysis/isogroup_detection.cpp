@@ -277,23 +277,33 @@ void collect_candidates(const GeometricGraph& g, const Adjacency& adjacency, con
                 // Counted once, from the lowest pattern vertex it touches.
                 if (std::countr_zero(mask) != static_cast<int>(v)) continue;
                 const Vec2 x = inverse.apply(g.positions[wi]);
-                // The smallest key over the symmetries of the pattern.
+                // The smallest key over the symmetries of the pattern: masks first (cheap),
+                // the polar cell (atan2, log) only for the symmetries that tie on the mask.
+                std::uint64_t least = ~std::uint64_t{0};
+                for (std::size_t s = 0; s < parent.symmetries.size(); ++s) {
+                    least = std::min(least, s == 0 ? mask : permute_mask(mask, parent.symmetries[s].perm));
+                }
                 bool found = false;
                 Candidate best{};
-                for (std::size_t s = 0; s < parent.symmetries.size(); ++s) {
-                    const Symmetry& sym = parent.symmetries[s];
-                    const std::uint64_t m = s == 0 ? mask : permute_mask(mask, sym.perm);
-                    const Vec2 xs = s == 0 ? x : sym.map.apply(x);
-                    const int anchor = std::countr_zero(m);
-                    const int cell = grid.cell(xs - pattern[static_cast<std::size_t>(anchor)]);
-                    if (cell < 0) continue;
-                    if (!found || m < best.mask || (m == best.mask && cell < best.cell)) {
-                        found = true;
-                        best.mask = m;
-                        best.cell = static_cast<std::uint16_t>(cell);
-                        best.symmetry = static_cast<std::uint8_t>(s);
-                        best.x = static_cast<float>(xs.x());
-                        best.y = static_cast<float>(xs.y());
+                // Least mask first; only when no symmetry with it has a cell (the new vertex
+                // is outside the grid as seen from there) are the larger masks tried.
+                for (int pass = 0; pass < 2 && !found; ++pass) {
+                    for (std::size_t s = 0; s < parent.symmetries.size(); ++s) {
+                        const Symmetry& sym = parent.symmetries[s];
+                        const std::uint64_t m = s == 0 ? mask : permute_mask(mask, sym.perm);
+                        if (pass == 0 && m != least) continue;
+                        const Vec2 xs = s == 0 ? x : sym.map.apply(x);
+                        const int anchor = std::countr_zero(m);
+                        const int cell = grid.cell(xs - pattern[static_cast<std::size_t>(anchor)]);
+                        if (cell < 0) continue;
+                        if (!found || m < best.mask || (m == best.mask && cell < best.cell)) {
+                            found = true;
+                            best.mask = m;
+                            best.cell = static_cast<std::uint16_t>(cell);
+                            best.symmetry = static_cast<std::uint8_t>(s);
+                            best.x = static_cast<float>(xs.x());
+                            best.y = static_cast<float>(xs.y());
+                        }
                     }
                 }
                 if (!found) continue;

@@ -65,8 +65,8 @@ struct SelectedIsogroup {
 
 // The isogroups that meet the constraints with their non-overlapping occurrences, best
 // gain first (ties: more occurrences, larger order, lower index). Every group is first
-// ranked with a quick greedy selection (greedy minimum degree and swaps, no bounds); the
-// 64 leading groups are then selected again with `options`, so the
+// ranked with a quick greedy selection (occurrences sharing the fewest vertices first,
+// no overlap graph, no bounds); the 16 leading groups are then selected again with `options`, so the
 // groups a user or the encoder picks carry the full answer and its method. Deterministic;
 // independent of the number of threads.
 std::vector<SelectedIsogroup> select_isogroups(const GeometricGraph& g, const std::vector<Isogroup>& isogroups,
