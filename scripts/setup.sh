@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libosmium2-dev libprotozero-dev libbz2-dev zlib1g-dev libexpat1-dev
-  libeigen3-dev libboost-dev libproj-dev proj-data libtbb-dev
+  libeigen3-dev libboost-dev libproj-dev proj-data libtbb-dev libpolyclipping-dev
   nlohmann-json3-dev libcli11-dev
   pybind11-dev python3-dev python3-numpy python3-pytest
   libgtest-dev libgmock-dev libbenchmark-dev
