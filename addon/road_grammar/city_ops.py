@@ -146,10 +146,19 @@ def _network(graph_obj):
 
 
 def _selected_vertices(graph_obj):
+    """The selected vertices, in the order they were picked in Edit Mode when Blender knows
+    it (else by index)."""
+    order = []
     if graph_obj.mode == 'EDIT':
+        import bmesh
+        history = bmesh.from_edit_mesh(graph_obj.data).select_history
+        order = [element.index for element in history if isinstance(element, bmesh.types.BMVert)]
         graph_obj.update_from_editmode()
     flags = mesh_build.read_flags(graph_obj.data.vertices)
-    return np.flatnonzero(flags["select"] & ~flags["hide"]).tolist()
+    selected = np.flatnonzero(flags["select"] & ~flags["hide"]).tolist()
+    if sorted(order) == selected:
+        return order
+    return selected
 
 
 def _remove_parts(graph_name, parts):

@@ -113,11 +113,26 @@ void road_pieces(const GeometricGraph& g, const std::vector<double>& half, int s
             out.roads.add({line[k] - normal, line[k + 1] - normal, line[k + 1] + normal, line[k] + normal}, id);
             out.road_piece.push_back(RoadPiece::segment);
             if (k > 0) {
-                // The outer side of the bend is the one the road turns away from.
+                // The outer side of the bend is the one the road turns away from; fill it so
+                // that every point within h of the bend point is road (a mitre up to 120
+                // degrees of turn, a polygon around the circle beyond), as the kerb inset
+                // and the clearance of the buildings assume.
                 const double turn = previous_normal.x() * normal.y() - previous_normal.y() * normal.x();
                 if (std::abs(turn) > 1e-9 * h * h) {
                     const double side = turn > 0 ? -1.0 : 1.0;
-                    ring = {line[k], line[k] + side * previous_normal, line[k] + side * normal};
+                    const Vec2 a = side * previous_normal, b = side * normal;
+                    const Vec2 bisector = (a + b).normalized();
+                    const double cos_half = bisector.dot(a) / h;
+                    ring.clear();
+                    if (cos_half > 0.5) {
+                        ring = {line[k], line[k] + a, line[k] + bisector * (h / cos_half), line[k] + b};
+                    } else {
+                        const double r = h / std::cos(std::numbers::pi / 8);
+                        for (int j = 0; j < 8; ++j) {
+                            const double angle = 2.0 * std::numbers::pi * (j + 0.5) / 8;
+                            ring.push_back(line[k] + Vec2{r * std::cos(angle), r * std::sin(angle)});
+                        }
+                    }
                     ccw(ring);
                     out.roads.add(ring, id);
                     out.road_piece.push_back(RoadPiece::bend);

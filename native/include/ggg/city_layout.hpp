@@ -3,8 +3,8 @@
 // block, the yard inside its sidewalk, and building footprints along the streets.
 //
 // Everything is built from one set of convex "road pieces" so that the parts fit without
-// gaps or overlaps: a rectangle of the road's width per polyline segment, a bevel triangle
-// on the outer side of every bend, and a disc (a polygon around the circle) of the widest
+// gaps or overlaps: a rectangle of the road's width per polyline segment, a mitre on the
+// outer side of every bend (a disc for a bend sharper than 120 degrees), and a disc (a polygon around the circle) of the widest
 // road's half width at every vertex. The road surface is these pieces; a block is its
 // planar face (planar_faces.hpp) minus every piece that reaches into it, so dead ends,
 // roads of other components and roads that cross without a vertex (bridges) are all cut
