@@ -350,7 +350,7 @@ def build(context, graph_obj, plan, settings):
 
     # Sun, sky and a camera over the city.
     sun_data = bpy.data.lights.new(graph_obj.name + " Sun", 'SUN')
-    sun_data.energy = 3.0
+    sun_data.energy = 4.0
     sun_data.angle = math.radians(1.0)
     sun = add("sun", sun_data)
     sun.rotation_euler = (math.radians(90.0 - settings.sun_elevation), 0.0, math.radians(settings.sun_azimuth))
@@ -392,8 +392,8 @@ def aim_overview(camera, centre, extent):
     from mathutils import Vector
     data = camera.data
     data.lens = 35.0
-    distance = max(60.0, 0.85 * extent)
-    direction = Vector((0.55, -0.75, 0.62)).normalized()
+    distance = max(60.0, 1.05 * extent)
+    direction = Vector((0.45, -0.8, 0.5)).normalized()
     camera.location = centre + direction * distance
     camera.rotation_euler = (-direction).to_track_quat('-Z', 'Y').to_euler()
     # A near plane far from the camera keeps depth precision for the cm-thin layers.
@@ -418,9 +418,9 @@ def setup_world(scene, settings):
     sky.sun_disc = False
     sky.sun_elevation = math.radians(settings.sun_elevation)
     sky.sun_rotation = math.radians(settings.sun_azimuth) + math.pi / 2.0
-    background.inputs["Strength"].default_value = 0.25
+    background.inputs["Strength"].default_value = 0.3
     scene.view_settings.view_transform = 'Filmic'
-    scene.view_settings.look = 'Medium High Contrast'
+    scene.view_settings.look = 'High Contrast'
     return world
 
 

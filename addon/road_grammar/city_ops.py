@@ -358,9 +358,11 @@ def configure_render(scene, engine, width, height, samples):
         scene.cycles.use_denoising = False
     else:
         scene.eevee.taa_render_samples = int(samples)
-        scene.eevee.use_gtao = True
-        scene.eevee.use_soft_shadows = True
-        scene.eevee.shadow_cascade_size = '2048'
+        # Soft shadows and ambient occlusion need several samples to converge; Mesa's software
+        # OpenGL renders a 1024 shadow cascade in a fraction of the time of a 2048 one.
+        scene.eevee.use_gtao = samples >= 8
+        scene.eevee.use_soft_shadows = samples >= 8
+        scene.eevee.shadow_cascade_size = '1024'
 
 
 def configure_movie(scene):

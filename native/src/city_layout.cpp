@@ -72,6 +72,7 @@ void ccw(std::vector<Vec2>& ring) {
 struct PieceIndex {
     std::vector<std::size_t> edge_begin; // pieces of edge e: [edge_begin[e], edge_begin[e+1])
     std::vector<std::int64_t> vertex_disc; // piece of the disc at v, -1 for none
+    std::vector<Box> boxes;                // bounding box of every piece
 };
 
 // The road pieces: segment rectangles, bevel triangles at bends, discs at vertices.
@@ -332,6 +333,8 @@ struct Shared {
     const Adjacency& adjacency;
     const bgi::rtree<VertexEntry, bgi::rstar<16>>& vertices;
     const bgi::rtree<PieceEntry, bgi::rstar<16>>& crossing_pieces;
+    const std::vector<RoadPiece>& piece_kind;
+    const std::vector<cl::Paths>& outlines; // union of each edge's segment and bend pieces
     const Frame& frame;
     const CityLayoutOptions& options;
 };
@@ -348,7 +351,11 @@ void face_pieces(const Shared& s, std::size_t f, const Box& bounds, std::vector<
         if (s.where.vertex_disc[vi] >= 0) out.push_back(static_cast<std::size_t>(s.where.vertex_disc[vi]));
         for (auto k = s.adjacency.offsets[vi]; k < s.adjacency.offsets[vi + 1]; ++k) {
             const auto e = static_cast<std::size_t>(s.adjacency.edge_ids[static_cast<std::size_t>(k)]);
-            for (std::size_t p = s.where.edge_begin[e]; p < s.where.edge_begin[e + 1]; ++p) out.push_back(p);
+            // Only the part of a road that comes near the face: a long road leaving the
+            // block adds just its first pieces.
+            for (std::size_t p = s.where.edge_begin[e]; p < s.where.edge_begin[e + 1]; ++p) {
+                if (bg::intersects(s.where.boxes[p], bounds)) out.push_back(p);
+            }
         }
     };
     for (auto k = s.faces.face_edge_offsets[f]; k < s.faces.face_edge_offsets[f + 1]; ++k) {
@@ -375,7 +382,8 @@ struct FaceResult {
     bool empty = false;
 };
 
-void build_face(const Shared& s, std::size_t f, std::vector<std::int32_t>& stamp, std::vector<std::size_t>& pieces_in, FaceResult& out) {
+void build_face(const Shared& s, std::size_t f, std::vector<std::int32_t>& stamp, std::vector<std::int32_t>& edge_stamp,
+                std::vector<std::size_t>& pieces_in, FaceResult& out) {
     const auto face = static_cast<std::int32_t>(f);
     const PlanarFaces& faces = s.faces;
     const auto& first_ring = s.first_ring;
@@ -398,9 +406,18 @@ void build_face(const Shared& s, std::size_t f, std::vector<std::int32_t>& stamp
     cl::Clipper clipper;
     clipper.AddPaths(subject, cl::ptSubject, true);
     face_pieces(s, f, bounds, stamp, pieces_in);
+    // An edge goes in as its outline (one polygon instead of overlapping rectangles: far
+    // fewer intersections for Clipper's sweep), a junction as its disc.
     for (std::size_t piece : pieces_in) {
-        clipper.AddPath(frame.path(roads.points.data() + roads.offsets[piece], roads.points.data() + roads.offsets[piece + 1]),
-                        cl::ptClip, true);
+        if (s.piece_kind[piece] == RoadPiece::junction) {
+            clipper.AddPath(frame.path(roads.points.data() + roads.offsets[piece], roads.points.data() + roads.offsets[piece + 1]),
+                            cl::ptClip, true);
+            continue;
+        }
+        const auto e = static_cast<std::size_t>(roads.owner[piece]);
+        if (edge_stamp[e] == face + 1) continue;
+        edge_stamp[e] = face + 1;
+        clipper.AddPaths(s.outlines[e], cl::ptClip, true);
     }
     cl::PolyTree kerb_tree;
     clipper.Execute(cl::ctDifference, kerb_tree, cl::pftNonZero, cl::pftNonZero);
@@ -420,6 +437,7 @@ void build_face(const Shared& s, std::size_t f, std::vector<std::int32_t>& stamp
     cl::PolyTreeToPaths(yard_tree, yard);
     if (paths_area(yard) < o.min_building_area_m2) return;
     add_without_holes(yard_tree, frame, face, out.yards);
+    if (faces.face_area[f] > o.max_block_area_m2) return; // fields and forests, not city blocks
 
     Random random{o.seed * 0x2545F4914F6CDD1Dull + f};
     const double depth = random.uniform(o.depth_min_m, o.depth_max_m);
@@ -434,6 +452,14 @@ void build_face(const Shared& s, std::size_t f, std::vector<std::int32_t>& stamp
     lots.AddPaths(cutters, cl::ptClip, true);
     cl::PolyTree lot_tree;
     lots.Execute(cl::ctDifference, lot_tree, cl::pftNonZero, cl::pftNonZero);
+    // Points closer than 0.3 m to the line of their neighbours add nothing to a building.
+    cl::Paths lot_paths;
+    cl::PolyTreeToPaths(lot_tree, lot_paths);
+    cl::CleanPolygons(lot_paths, 0.3 * kScale);
+    cl::Clipper clean;
+    clean.AddPaths(lot_paths, cl::ptSubject, true);
+    lot_tree.Clear();
+    clean.Execute(cl::ctUnion, lot_tree, cl::pftNonZero, cl::pftNonZero);
     PolygonSet pieces;
     add_without_holes(lot_tree, frame, face, pieces);
     for (std::size_t k = 0; k < pieces.size(); ++k) {
@@ -477,8 +503,10 @@ CityLayout city_layout(const GeometricGraph& g, const CityLayoutOptions& options
     }
     const CityLayoutOptions& o = options;
     if (!(o.sidewalk_m >= 0 && o.sidewalk_m < 100) || !(o.lot_min_m > 1 && o.lot_max_m >= o.lot_min_m) ||
-        !(o.depth_min_m > 1 && o.depth_max_m >= o.depth_min_m) || !(o.gap_m >= 0.01) || o.disc_sides < 6 || o.disc_sides > 128) {
-        throw UsageError("city layout options out of range (sidewalk >= 0, lots and depths > 1 m with min <= max, gap >= 0.01 m, 6..128 disc sides)");
+        !(o.depth_min_m > 1 && o.depth_max_m >= o.depth_min_m) || !(o.gap_m >= 0.01) || o.disc_sides < 6 || o.disc_sides > 128 ||
+        !(o.max_block_area_m2 > 0)) {
+        throw UsageError("city layout options out of range (sidewalk >= 0, lots and depths > 1 m with min <= max, gap >= 0.01 m, "
+                         "6..128 disc sides, max block area > 0)");
     }
     for (const Vec2& p : g.positions) {
         if (!p.allFinite() || std::abs(p.x()) > 1e8 || std::abs(p.y()) > 1e8) throw InputError("vertex positions must be finite and within 100,000 km");
@@ -491,6 +519,10 @@ CityLayout city_layout(const GeometricGraph& g, const CityLayoutOptions& options
     PieceIndex where;
     road_pieces(g, half, o.disc_sides, out, where);
     const Adjacency adjacency(g);
+    where.boxes.reserve(out.roads.size());
+    for (std::size_t k = 0; k < out.roads.size(); ++k) {
+        where.boxes.push_back(box_of(out.roads.points.data() + out.roads.offsets[k], out.roads.points.data() + out.roads.offsets[k + 1]));
+    }
 
     Frame frame;
     if (!g.positions.empty()) {
@@ -502,7 +534,7 @@ CityLayout city_layout(const GeometricGraph& g, const CityLayoutOptions& options
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         if (!crossing[e]) continue;
         for (std::size_t k = where.edge_begin[e]; k < where.edge_begin[e + 1]; ++k) {
-            entries.emplace_back(box_of(out.roads.points.data() + out.roads.offsets[k], out.roads.points.data() + out.roads.offsets[k + 1]), k);
+                entries.emplace_back(where.boxes[k], k);
         }
     }
     const bgi::rtree<PieceEntry, bgi::rstar<16>> crossing_pieces(entries.begin(), entries.end());
@@ -520,17 +552,38 @@ CityLayout city_layout(const GeometricGraph& g, const CityLayoutOptions& options
     for (std::size_t r = out.faces.ring_count(); r-- > 0;) first_ring[static_cast<std::size_t>(out.faces.ring_face[r])] = r;
     for (std::size_t f = faces; f-- > 0;) first_ring[f] = std::min(first_ring[f], first_ring[f + 1]);
     std::vector<FaceResult> results(faces);
-    const Shared shared{g, out.faces, first_ring, out.roads, where, adjacency, vertex_tree, crossing_pieces, frame, o};
+    const unsigned threads = std::max(1u, std::min(o.threads ? o.threads : std::thread::hardware_concurrency(), 16u));
+    std::vector<cl::Paths> outlines(g.edge_count());
+    {
+        std::atomic<std::size_t> next_edge{0};
+        auto outline_work = [&] {
+            for (std::size_t e; (e = next_edge.fetch_add(1)) < g.edge_count();) {
+                cl::Clipper clipper;
+                for (std::size_t k = where.edge_begin[e]; k < where.edge_begin[e + 1]; ++k) {
+                    clipper.AddPath(frame.path(out.roads.points.data() + out.roads.offsets[k],
+                                               out.roads.points.data() + out.roads.offsets[k + 1]),
+                                    cl::ptSubject, true);
+                }
+                clipper.Execute(cl::ctUnion, outlines[e], cl::pftNonZero, cl::pftNonZero);
+            }
+        };
+        std::vector<std::thread> pool;
+        for (unsigned t = 1; t < threads; ++t) pool.emplace_back(outline_work);
+        outline_work();
+        for (auto& t : pool) t.join();
+    }
+    report(progress, 0.2, "blocks and buildings");
+    const Shared shared{g, out.faces, first_ring, out.roads, where, adjacency, vertex_tree, crossing_pieces, out.road_piece, outlines, frame, o};
     std::atomic<std::size_t> next{0};
     std::atomic<bool> stop{false};
     std::exception_ptr failure;
     std::mutex failure_mutex;
     auto work = [&](bool reporting) {
-        std::vector<std::int32_t> stamp(g.vertex_count(), 0);
+        std::vector<std::int32_t> stamp(g.vertex_count(), 0), edge_stamp(g.edge_count(), 0);
         std::vector<std::size_t> pieces;
         try {
             for (std::size_t f; !stop && (f = next.fetch_add(1)) < faces;) {
-                build_face(shared, f, stamp, pieces, results[f]);
+                build_face(shared, f, stamp, edge_stamp, pieces, results[f]);
                 if (reporting && f % 256 == 0) report(progress, 0.2 + 0.75 * static_cast<double>(f) / static_cast<double>(faces), "blocks and buildings");
             }
         } catch (...) {
@@ -539,7 +592,6 @@ CityLayout city_layout(const GeometricGraph& g, const CityLayoutOptions& options
             if (!failure) failure = std::current_exception();
         }
     };
-    const unsigned threads = std::max(1u, std::min(o.threads ? o.threads : std::thread::hardware_concurrency(), 16u));
     std::vector<std::thread> pool;
     for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, false);
     work(true);

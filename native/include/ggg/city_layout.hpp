@@ -35,6 +35,9 @@ struct CityLayoutOptions {
     double depth_max_m = 18.0;
     double gap_m = 0.6;             // between neighbouring buildings
     double min_building_area_m2 = 30.0;
+    // Faces larger than this are fields, forests or parks between distant roads, not city
+    // blocks: they get kerbs and a yard but no buildings.
+    double max_block_area_m2 = 250000.0;
     int disc_sides = 12;            // sides of the polygon around a junction
     std::uint64_t seed = 1;         // lot frontages and band depths
     unsigned threads = 0;           // 0 = hardware concurrency
