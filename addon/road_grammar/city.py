@@ -54,7 +54,7 @@ COLORS = {
     "kerb": (0.62, 0.62, 0.60),
     "yard": (0.09, 0.15, 0.05),
     "ground": (0.13, 0.16, 0.08),
-    "roof": (0.22, 0.19, 0.18),
+    "roof": (0.09, 0.075, 0.07),
 }
 # Facade colours the `tint` attribute picks from.
 WALL_COLORS = (

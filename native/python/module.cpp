@@ -480,7 +480,8 @@ PYBIND11_MODULE(ggg, m) {
 
         m.def("city_layout", [face_arrays](const ggg::GeometricGraph& g, std::optional<DoubleArray> half_widths, double sidewalk_m,
                                            double lot_min_m, double lot_max_m, double depth_min_m, double depth_max_m, double gap_m,
-                                           double min_building_area_m2, double max_block_area_m2, std::uint64_t seed, unsigned threads,
+                                           double min_building_area_m2, double max_block_area_m2, double min_yard_area_m2, std::uint64_t seed,
+                                           unsigned threads,
                                            std::optional<py::function> progress) {
             ggg::CityLayoutOptions options;
             if (half_widths) {
@@ -497,6 +498,7 @@ PYBIND11_MODULE(ggg, m) {
             options.gap_m = gap_m;
             options.min_building_area_m2 = min_building_area_m2;
             options.max_block_area_m2 = max_block_area_m2;
+            options.min_yard_area_m2 = min_yard_area_m2;
             options.seed = seed;
             options.threads = threads;
             PythonProgress reporter(std::move(progress));
@@ -527,12 +529,14 @@ PYBIND11_MODULE(ggg, m) {
             return d;
         }, py::arg("graph"), py::arg("half_widths") = py::none(), py::arg("sidewalk_m") = 3.0, py::arg("lot_min_m") = 9.0,
            py::arg("lot_max_m") = 26.0, py::arg("depth_min_m") = 10.0, py::arg("depth_max_m") = 18.0, py::arg("gap_m") = 0.6,
-           py::arg("min_building_area_m2") = 30.0, py::arg("max_block_area_m2") = 250000.0, py::arg("seed") = 1, py::arg("threads") = 0, py::arg("progress") = py::none(),
+           py::arg("min_building_area_m2") = 30.0, py::arg("max_block_area_m2") = 250000.0, py::arg("min_yard_area_m2") = 400.0,
+           py::arg("seed") = 1, py::arg("threads") = 0, py::arg("progress") = py::none(),
            "The ground plan of a 3-D city: road pieces (segment rectangles, bend triangles, junction discs; road_piece 0/1/2,\n"
            "road_edge the edge, for a junction its most important one), block kerb outlines, yards (blocks inset by the\n"
            "sidewalk) and building footprints (lots of seeded frontage in a band along each yard), all as simple\n"
            "counter-clockwise polygons: <name>_offsets (K+1,), <name>_points (P,2), <name>_face / road_edge (K,).\n"
-           "Faces larger than max_block_area_m2 (fields, forests) get no buildings.\n"
+           "Faces larger than max_block_area_m2 (fields, forests) and yards smaller than min_yard_area_m2 (traffic\n"
+           "islands) get no buildings.\n"
            "half_widths (M,) in metres (default: half the class default width). 'faces' holds planar_faces().");
     }
 }

@@ -435,9 +435,11 @@ void build_face(const Shared& s, std::size_t f, std::vector<std::int32_t>& stamp
     inset.Execute(yard_tree, -o.sidewalk_m * kScale);
     cl::Paths yard;
     cl::PolyTreeToPaths(yard_tree, yard);
-    if (paths_area(yard) < o.min_building_area_m2) return;
+    const double yard_area = paths_area(yard);
+    if (yard_area < o.min_building_area_m2) return;
     add_without_holes(yard_tree, frame, face, out.yards);
     if (faces.face_area[f] > o.max_block_area_m2) return; // fields and forests, not city blocks
+    if (yard_area < o.min_yard_area_m2) return;           // traffic islands, roundabouts
 
     Random random{o.seed * 0x2545F4914F6CDD1Dull + f};
     const double depth = random.uniform(o.depth_min_m, o.depth_max_m);
@@ -445,7 +447,8 @@ void build_face(const Shared& s, std::size_t f, std::vector<std::int32_t>& stamp
     deeper.AddPaths(yard, cl::jtMiter, cl::etClosedPolygon);
     cl::Paths court;
     deeper.Execute(court, -depth * kScale);
-    cl::Paths cutters = lot_cutters(yard, frame, depth * 1.5 + 2.0, o, random);
+    // Cutters reach well past the band, so that they also part the deeper corner lots.
+    cl::Paths cutters = lot_cutters(yard, frame, depth * 2.5 + 5.0, o, random);
     cl::Clipper lots;
     lots.AddPaths(yard, cl::ptSubject, true);
     lots.AddPaths(court, cl::ptClip, true);
@@ -504,7 +507,7 @@ CityLayout city_layout(const GeometricGraph& g, const CityLayoutOptions& options
     const CityLayoutOptions& o = options;
     if (!(o.sidewalk_m >= 0 && o.sidewalk_m < 100) || !(o.lot_min_m > 1 && o.lot_max_m >= o.lot_min_m) ||
         !(o.depth_min_m > 1 && o.depth_max_m >= o.depth_min_m) || !(o.gap_m >= 0.01) || o.disc_sides < 6 || o.disc_sides > 128 ||
-        !(o.max_block_area_m2 > 0)) {
+        !(o.max_block_area_m2 > 0) || !(o.min_yard_area_m2 >= 0)) {
         throw UsageError("city layout options out of range (sidewalk >= 0, lots and depths > 1 m with min <= max, gap >= 0.01 m, "
                          "6..128 disc sides, max block area > 0)");
     }

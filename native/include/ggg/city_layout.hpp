@@ -38,6 +38,8 @@ struct CityLayoutOptions {
     // Faces larger than this are fields, forests or parks between distant roads, not city
     // blocks: they get kerbs and a yard but no buildings.
     double max_block_area_m2 = 250000.0;
+    // A yard smaller than this is a traffic island or the middle of a roundabout: no buildings.
+    double min_yard_area_m2 = 400.0;
     int disc_sides = 12;            // sides of the polygon around a junction
     std::uint64_t seed = 1;         // lot frontages and band depths
     unsigned threads = 0;           // 0 = hardware concurrency
