@@ -456,13 +456,9 @@ void build_face(const Shared& s, std::size_t f, std::vector<std::int32_t>& stamp
     cl::PolyTree lot_tree;
     lots.Execute(cl::ctDifference, lot_tree, cl::pftNonZero, cl::pftNonZero);
     // Points closer than 0.3 m to the line of their neighbours add nothing to a building.
-    cl::Paths lot_paths;
-    cl::PolyTreeToPaths(lot_tree, lot_paths);
-    cl::CleanPolygons(lot_paths, 0.3 * kScale);
-    cl::Clipper clean;
-    clean.AddPaths(lot_paths, cl::ptSubject, true);
-    lot_tree.Clear();
-    clean.Execute(cl::ctUnion, lot_tree, cl::pftNonZero, cl::pftNonZero);
+    for (cl::PolyNode* node = lot_tree.GetFirst(); node != nullptr; node = node->GetNext()) {
+        cl::CleanPolygon(node->Contour, 0.3 * kScale);
+    }
     PolygonSet pieces;
     add_without_holes(lot_tree, frame, face, pieces);
     for (std::size_t k = 0; k < pieces.size(); ++k) {
