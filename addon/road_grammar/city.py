@@ -346,7 +346,8 @@ def build(context, graph_obj, plan, settings):
     surface_obj = importer.surface_object(graph_obj)
     if surface_obj is not None:
         surface_obj.hide_render = True
-        surface_obj.hide_viewport = True
+        if surface_obj.name in context.view_layer.objects:
+            surface_obj.hide_set(True)
 
     # Sun, sky and a camera over the city.
     sun_data = bpy.data.lights.new(graph_obj.name + " Sun", 'SUN')
