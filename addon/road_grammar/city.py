@@ -208,7 +208,8 @@ def building_heights(seed, points_xy, offsets, face_area, centre, radius):
     """Height in metres and facade tint in [0, 1) of each footprint.
 
     Floors grow towards the centre of the network and in small blocks (a dense core,
-    low-rise suburbs), vary from lot to lot, and a few lots in dense blocks are towers.
+    low-rise suburbs), vary from lot to lot, and one lot in a hundred in the densest
+    blocks is a tower.
     Deterministic for a given ``seed``."""
     rng = np.random.default_rng(int(seed))
     count = len(offsets) - 1
@@ -220,10 +221,10 @@ def building_heights(seed, points_xy, offsets, face_area, centre, radius):
     # Base floors by block size: 5 in blocks under 0.3 ha, down to 1.5 in blocks over 25 ha.
     base = np.interp(np.log10(np.maximum(area, 1.0)), [3.5, 4.2, 4.8, 5.4], [4.0, 3.0, 2.0, 1.5])
     distance = np.hypot(first[:, 0] - centre[0], first[:, 1] - centre[1]) / max(radius, 1.0)
-    central = 1.0 + 0.8 * np.clip(1.0 - 1.5 * distance, 0.0, 1.0) ** 2
-    floors = base * central * rng.lognormal(0.0, 0.3, count)
-    towers = (rng.random(count) < 0.03) & (base * central >= 5.0)
-    floors = np.where(towers, floors * rng.uniform(2.0, 3.5, count), floors)
+    central = 1.0 + 0.6 * np.clip(1.0 - 1.5 * distance, 0.0, 1.0) ** 2
+    floors = base * central * rng.lognormal(0.0, 0.25, count)
+    towers = (rng.random(count) < 0.01) & (base * central >= 5.0)
+    floors = np.where(towers, floors * rng.uniform(1.8, 3.0, count), floors)
     floors = np.clip(np.rint(floors), 1, 60)
     heights = floors * FLOOR_HEIGHT_M + rng.uniform(0.3, 1.2, count)
     return heights, rng.random(count)
