@@ -156,3 +156,19 @@ def test_no_road_graph_is_an_error(results, ggg):
     with pytest.raises(RuntimeError, match="No road graph is active"):
         bpy.ops.roads.flythrough()
     assert results == [{'CANCELLED'}]
+
+
+def test_animation_renders_to_an_mp4(town, tmp_path):
+    scene = bpy.context.scene
+    scene.render.fps = 24
+    assert bpy.ops.roads.build_city() == {'FINISHED'}
+    assert bpy.ops.roads.flythrough(mode='TOUR', height='DRONE', duration_s=0.5, seed=1) == {'FINISHED'}
+    assert scene.frame_end - scene.frame_start + 1 == 12
+    assert bpy.ops.roads.render_city(animation=True, engine='BLENDER_EEVEE', resolution_x=32, resolution_y=32,
+                                     samples=1, directory=str(tmp_path)) == {'FINISHED'}
+    movie = tmp_path / "flythrough.mp4"
+    data = movie.read_bytes()
+    assert data[4:8] == b"ftyp" and len(data) > 1000  # an MP4 (ISO media) file with frames in it
+    assert scene.render.image_settings.file_format == 'FFMPEG' and scene.render.ffmpeg.codec == 'H264'
+    clip = bpy.data.movieclips.load(str(movie))
+    assert clip.frame_duration == 12 and tuple(clip.size) == (32, 32)
