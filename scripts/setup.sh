@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libosmium2-dev libprotozero-dev libbz2-dev zlib1g-dev libexpat1-dev
-  libeigen3-dev libboost-dev libproj-dev proj-data libtbb-dev libpolyclipping-dev
+  libeigen3-dev libboost-dev libproj-dev proj-data libtbb-dev
   nlohmann-json3-dev libcli11-dev
   pybind11-dev python3-dev python3-numpy python3-pytest
   libgtest-dev libgmock-dev libbenchmark-dev
@@ -13,6 +13,8 @@ packages=(
   # Blender opens OpenGL at run time (libepoxy); headless Eevee renders and the windowed
   # undo test under Xvfb need Mesa's software renderer, which Blender does not depend on.
   libgl1 libegl1 libglx-mesa0 libegl-mesa0 libgl1-mesa-dri
+  # The 3-D city: Clipper polygon clipping (native), PIL for the docs pictures' palettes.
+  libpolyclipping-dev python3-pil
 )
 missing=()
 for p in "${packages[@]}"; do
