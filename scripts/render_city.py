@@ -57,7 +57,10 @@ def parse_args():
 
 
 def run(operator, **kwargs):
-    result = operator(**kwargs)
+    try:
+        result = operator(**kwargs)
+    except RuntimeError as ex:  # the operator reported an error
+        raise SystemExit("error: {}".format(str(ex).strip())) from None
     if result != {'FINISHED'}:
         raise SystemExit("error: {} returned {}".format(operator.idname_py(), result))
 

@@ -194,22 +194,24 @@ class ROADS_OT_flythrough(Operator):
         if graph_obj is None:
             return _report_error(self, "No road graph is active: select a road graph (import OpenStreetMap roads "
                                  "first)")
+        if graph_obj.mode == 'EDIT' and (self.mode != 'PATH' or self.start >= 0 or self.end >= 0):
+            graph_obj.update_from_editmode()  # (_selected_vertices does it after reading the pick order)
         if len(graph_obj.data.edges) == 0:
             return _report_error(self, "{} has no roads to fly along".format(graph_obj.name))
         scene = context.scene
         fps = scene.render.fps / scene.render.fps_base
         frames = max(2, int(round(self.duration_s * fps)))
         height, look_height, look_ahead, speed, lens = HEIGHTS[self.height]
+        ends = None
+        if self.mode == 'PATH':
+            # The pick order first: leaving Edit Mode's data for the mesh forgets it.
+            ends = [self.start, self.end] if self.start >= 0 or self.end >= 0 else _selected_vertices(graph_obj)
+            if len(ends) != 2:
+                return _report_error(self, "Select exactly two vertices of {} in Edit Mode for a shortest "
+                                     "path ({} selected), or use a Tour".format(graph_obj.name, len(ends)))
         network = _network(graph_obj)
         try:
             if self.mode == 'PATH':
-                if self.start >= 0 or self.end >= 0:
-                    ends = [self.start, self.end]
-                else:
-                    ends = _selected_vertices(graph_obj)
-                    if len(ends) != 2:
-                        return _report_error(self, "Select exactly two vertices of {} in Edit Mode for a shortest "
-                                             "path ({} selected), or use a Tour".format(graph_obj.name, len(ends)))
                 steps = network.shortest_path(int(ends[0]), int(ends[1]))
             else:
                 steps = network.tour(speed * self.duration_s, self.seed)
