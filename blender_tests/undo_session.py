@@ -7,7 +7,8 @@ what the file held at each step as JSON.
   blender --factory-startup --python undo_session.py -- ADDON_PARENT INPUT OUTPUT.json [MODE]
 
 MODE "import" (default): import the road file INPUT. MODE "grow": load the grammar file
-INPUT, add its axiom, then grow it by two steps (the step that is undone).
+INPUT, add its axiom, then grow it by two steps (the step that is undone). MODE "city":
+import the road file INPUT, then build its city (the step that is undone).
 """
 
 import json
@@ -20,7 +21,7 @@ import bpy
 _args = sys.argv[sys.argv.index("--") + 1:]
 addon_parent, input_path, output_path = _args[:3]
 mode = _args[3] if len(_args) > 3 else "import"
-KINDS = ("objects", "meshes", "materials", "node_groups", "collections", "texts")
+KINDS = ("objects", "meshes", "materials", "node_groups", "collections", "texts", "lights", "cameras", "worlds")
 
 
 def state():
@@ -47,13 +48,18 @@ def run():
         area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
         region = next(r for r in area.regions if r.type == 'WINDOW')
         with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
+            if mode == "city":
+                result["load"] = sorted(bpy.ops.roads.import_osm('EXEC_DEFAULT', True, filepath=input_path,
+                                                                 highways='ALL'))
             if mode == "grow":
                 result["load"] = sorted(bpy.ops.roads.load_grammar('EXEC_DEFAULT', True, filepath=input_path))
                 result["axiom"] = sorted(bpy.ops.roads.add_axiom('EXEC_DEFAULT', True))
             bpy.ops.ed.undo_push(message="before")
             result["before"] = state()
             # undo=True: push an undo step as when the user runs the operator from the menu.
-            if mode == "grow":
+            if mode == "city":
+                result["city"] = sorted(bpy.ops.roads.build_city('EXEC_DEFAULT', True))
+            elif mode == "grow":
                 result["grow"] = sorted(bpy.ops.roads.grow('EXEC_DEFAULT', True, steps=2))
             else:
                 result["import"] = sorted(bpy.ops.roads.import_osm('EXEC_DEFAULT', True, filepath=input_path))

@@ -12,4 +12,8 @@ mkdir -p "$out"
 "$build/bin/ggg" export "$root/samples/sample_city.osm" --highways all -o "$out/sample_city.geojson"
 GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
   --python "$root/scripts/blender_demo.py" -- "$root/samples/sample_city.osm" "$out/sample_city.png" --credit ""
-echo "demo written to $out (sample_city.png, sample_city.geojson, sample_city_info.json)"
+# The 3-D city of the sample town: a still and a three-second fly-through (MP4).
+GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
+  --python "$root/scripts/render_city.py" -- "$root/samples/sample_city.osm" --out "$out" --credit "" \
+  --size 960x540 --samples 16 --flythrough 3 --fly-size 480x270 --fly-samples 2
+echo "demo written to $out (sample_city.png, sample_city.geojson, sample_city_info.json, city.png, flythrough.mp4)"

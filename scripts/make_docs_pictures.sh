@@ -22,4 +22,10 @@ if [ -f "$root/scripts/render_grammar_demo.py" ]; then
   GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
     --python "$root/scripts/render_grammar_demo.py" -- "$out/sierpinski_blender.png" >/dev/null
 fi
+# The 3-D city (docs/user-guide.md): Build City, Fly-Through and Render City on the sample
+# town, and a city on a real extract when ../shared/osm is there.
+city_osm=()
+[ -f "$root/../shared/osm/paris_marais.osm.pbf" ] && city_osm=(--osm "$root/../shared/osm/paris_marais.osm.pbf")
+GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
+  --python "$root/scripts/make_city_pictures.py" -- --out-dir "$out" "${city_osm[@]}" >/dev/null
 echo "pictures written to $out"

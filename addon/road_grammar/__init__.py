@@ -14,7 +14,7 @@ bl_info = {
     "blender": (3, 4, 0),
     "location": "File > Import > OpenStreetMap Roads; 3D View > Sidebar > Roads",
     "description": "Import OpenStreetMap roads as a road graph mesh with flat road surfaces; "
-    "grow road graphs with geometric graph grammars",
+    "grow road graphs with geometric graph grammars; build, fly through and render 3-D cities",
     "category": "Import-Export",
 }
 
@@ -22,12 +22,12 @@ if "bpy" in locals():
     import importlib
 
     for _module in (native, georef, mesh_build, surface, frames, importer, preferences, grammar,  # noqa: F821
-                    graph_edit, operators, grammar_ops, panels):  # noqa: F821
+                    graph_edit, operators, grammar_ops, city, flythrough, city_ops, panels):  # noqa: F821
         importlib.reload(_module)
     del _module
 else:
     from . import (native, georef, mesh_build, surface, frames, importer, preferences, grammar, graph_edit,
-                   operators, grammar_ops, panels)
+                   operators, grammar_ops, city, flythrough, city_ops, panels)
 
 import bpy
 
@@ -44,6 +44,11 @@ classes = (
     grammar_ops.ROADS_OT_grow,
     panels.VIEW3D_PT_roads,
     panels.VIEW3D_PT_roads_grammar,
+    city_ops.ROADS_PG_city,
+    city_ops.ROADS_OT_build_city,
+    city_ops.ROADS_OT_flythrough,
+    city_ops.ROADS_OT_render_city,
+    panels.VIEW3D_PT_roads_city,
 )
 
 
@@ -51,11 +56,13 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     grammar.register()
+    city_ops.register()
     bpy.types.TOPBAR_MT_file_import.append(operators.menu_import)
 
 
 def unregister():
     bpy.types.TOPBAR_MT_file_import.remove(operators.menu_import)
+    city_ops.unregister()
     grammar.unregister()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -10,10 +10,12 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "ggg/city_layout.hpp"
 #include "ggg/error.hpp"
 #include "ggg/graph_info.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
+#include "ggg/planar_faces.hpp"
 #include "ggg/projection.hpp"
 #include "ggg/rewriting.hpp"
 
@@ -386,4 +388,106 @@ PYBIND11_MODULE(ggg, m) {
           "Read a road graph from an OSM file (.osm, .osm.pbf, .osm.bz2, .osm.gz), GeoJSON or .ggraph.\n"
           "origin_latlon=(lat, lon) puts it in the local frame of that origin (default: centred on the data).\n"
           "progress(fraction, message) may return False to cancel (raises ggg.Cancelled).");
+
+    // --- City blocks and the 3-D city's ground plan (planar_faces.hpp, city_layout.hpp) ---
+    {
+        auto face_arrays = [](const ggg::PlanarFaces& f, py::dict& d) {
+            d["ring_offsets"] = column(f.ring_offsets);
+            d["points"] = points(f.points);
+            d["ring_face"] = column(f.ring_face);
+            d["face_area"] = column(f.face_area);
+            d["face_component"] = column(f.face_component);
+            d["face_dangling"] = column(f.face_dangling);
+            d["face_edge_offsets"] = column(f.face_edge_offsets);
+            d["face_edges"] = column(f.face_edges);
+            d["face_edge_reversed"] = column(f.face_edge_reversed);
+            d["components"] = f.components;
+            d["traced_faces"] = f.traced_faces;
+            d["outer_dropped"] = f.outer_dropped;
+            d["nonpositive_dropped"] = f.nonpositive_dropped;
+            d["dangling_edges"] = f.dangling_edges;
+            d["genus"] = f.genus;
+        };
+        m.def("planar_faces", [face_arrays](const ggg::GeometricGraph& g, bool remove_dangling, bool keep_outer) {
+            ggg::PlanarFaceOptions options;
+            options.remove_dangling = remove_dangling;
+            options.keep_outer = keep_outer;
+            ggg::PlanarFaces faces;
+            {
+                py::gil_scoped_release release;
+                faces = ggg::planar_faces(g, options);
+            }
+            py::dict d;
+            face_arrays(faces, d);
+            return d;
+        }, py::arg("graph"), py::arg("remove_dangling") = true, py::arg("keep_outer") = false,
+           "The faces (city blocks) of the graph drawn in the plane, using the edge polylines.\n"
+           "Returns a dict of numpy arrays: ring_offsets (R+1,), points (P,2) (rings not closed, bounded faces\n"
+           "counter-clockwise, holes clockwise), ring_face (R,), face_area (F,) signed m^2, face_component,\n"
+           "face_dangling (dead ends and other bridges inside each face), face_edge_offsets/face_edges/\n"
+           "face_edge_reversed (each face's boundary walk), and counts: components, traced_faces, outer_dropped,\n"
+           "nonpositive_dropped, dangling_edges, genus (> 0 where roads cross without a vertex).\n"
+           "remove_dangling cuts bridges out of the rings; keep_outer keeps each component's outer face.");
+
+        m.def("city_layout", [face_arrays](const ggg::GeometricGraph& g, std::optional<DoubleArray> half_widths, double sidewalk_m,
+                                           double lot_min_m, double lot_max_m, double depth_min_m, double depth_max_m, double gap_m,
+                                           double min_building_area_m2, double max_block_area_m2, double min_yard_area_m2, std::uint64_t seed,
+                                           unsigned threads,
+                                           std::optional<py::function> progress) {
+            ggg::CityLayoutOptions options;
+            if (half_widths) {
+                if (half_widths->ndim() != 1 || static_cast<std::size_t>(half_widths->shape(0)) != g.edge_count()) {
+                    throw ggg::UsageError("half_widths must have shape (M,) for M = " + std::to_string(g.edge_count()) + " edges");
+                }
+                options.half_widths.assign(half_widths->data(), half_widths->data() + half_widths->shape(0));
+            }
+            options.sidewalk_m = sidewalk_m;
+            options.lot_min_m = lot_min_m;
+            options.lot_max_m = lot_max_m;
+            options.depth_min_m = depth_min_m;
+            options.depth_max_m = depth_max_m;
+            options.gap_m = gap_m;
+            options.min_building_area_m2 = min_building_area_m2;
+            options.max_block_area_m2 = max_block_area_m2;
+            options.min_yard_area_m2 = min_yard_area_m2;
+            options.seed = seed;
+            options.threads = threads;
+            PythonProgress reporter(std::move(progress));
+            ggg::CityLayout layout;
+            try {
+                py::gil_scoped_release release;
+                layout = ggg::city_layout(g, options, reporter.callback());
+            } catch (const ggg::Cancelled&) {
+                reporter.rethrow();
+                throw;
+            }
+            py::dict d;
+            auto polygons = [&d](const char* name, const ggg::PolygonSet& set, const char* owner) {
+                d[(std::string(name) + "_offsets").c_str()] = column(set.offsets);
+                d[(std::string(name) + "_points").c_str()] = points(set.points);
+                d[(std::string(name) + "_" + owner).c_str()] = column(set.owner);
+            };
+            polygons("road", layout.roads, "edge");
+            d["road_piece"] = column_as<std::uint8_t>(layout.road_piece);
+            polygons("block", layout.blocks, "face");
+            polygons("yard", layout.yards, "face");
+            polygons("building", layout.buildings, "face");
+            d["building_depth"] = column(layout.building_depth);
+            d["empty_blocks"] = layout.empty_blocks;
+            py::dict faces;
+            face_arrays(layout.faces, faces);
+            d["faces"] = faces;
+            return d;
+        }, py::arg("graph"), py::arg("half_widths") = py::none(), py::arg("sidewalk_m") = 3.0, py::arg("lot_min_m") = 9.0,
+           py::arg("lot_max_m") = 26.0, py::arg("depth_min_m") = 10.0, py::arg("depth_max_m") = 18.0, py::arg("gap_m") = 0.6,
+           py::arg("min_building_area_m2") = 30.0, py::arg("max_block_area_m2") = 250000.0, py::arg("min_yard_area_m2") = 400.0,
+           py::arg("seed") = 1, py::arg("threads") = 0, py::arg("progress") = py::none(),
+           "The ground plan of a 3-D city: road pieces (segment rectangles, bend triangles, junction discs; road_piece 0/1/2,\n"
+           "road_edge the edge, for a junction its most important one), block kerb outlines, yards (blocks inset by the\n"
+           "sidewalk) and building footprints (lots of seeded frontage in a band along each yard), all as simple\n"
+           "counter-clockwise polygons: <name>_offsets (K+1,), <name>_points (P,2), <name>_face / road_edge (K,).\n"
+           "Faces larger than max_block_area_m2 (fields, forests) and yards smaller than min_yard_area_m2 (traffic\n"
+           "islands) get no buildings.\n"
+           "half_widths (M,) in metres (default: half the class default width). 'faces' holds planar_faces().");
+    }
 }

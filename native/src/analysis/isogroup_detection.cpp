@@ -471,7 +471,7 @@ double spread_of_group(const Isogroup& group, const GeometricGraph& g) {
     return *q;
 }
 
-void describe(Found& f, bool with_symbols, const GeometricGraph& g) {
+void describe(Found& f, bool with_symbols) {
     const auto& p = f.group.pattern.positions;
     f.hash = invariant_hash(f.group.pattern, with_symbols);
     f.radii.resize(p.size());
@@ -1042,7 +1042,7 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
         r.children = children.size();
         report(progress, (order - 1 + 0.7) / static_cast<double>(last_order - 1), message);
 
-        tbb::parallel_for(std::size_t{0}, children.size(), [&](std::size_t i) { describe(children[i], o.respect_symbols, g); });
+        tbb::parallel_for(std::size_t{0}, children.size(), [&](std::size_t i) { describe(children[i], o.respect_symbols); });
         merge_isomorphic(children, g, o);
         if (order == 2) {
             // Groups of two edges: here noise is largest relative to the pattern, and the
@@ -1053,7 +1053,7 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
         assign_to_one_group(children, g);
         std::erase_if(children, [&](const Found& f) { return f.group.frequency() < o.min_count; });
         tbb::parallel_for(std::size_t{0}, children.size(), [&](std::size_t i) {
-            if (children[i].radii.size() != children[i].group.order()) describe(children[i], o.respect_symbols, g);
+            if (children[i].radii.size() != children[i].group.order()) describe(children[i], o.respect_symbols);
             const auto& p = children[i].group.pattern.positions;
             children[i].added_area = std::max(0.0, hull_area(p) - hull_area(std::span<const Vec2>(p.data(), p.size() - 1)));
         });
