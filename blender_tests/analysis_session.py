@@ -55,7 +55,7 @@ def state():
     analysis = obj.road_analysis
     return {"isogroups": len(analysis.isogroups), "topology": analysis.topology,
             "stored": len(analysis["occurrences"]) if "occurrences" in analysis else 0,
-            "coloured": coloured, "selected": selected, "modifiers": [m.name for m in obj.modifiers],
+            "coloured": coloured, "selected": selected, "modifiers": [m.name for o in obj.children for m in o.modifiers],
             "mode": obj.mode, "objects": sorted(bpy.data.objects.keys())}
 
 

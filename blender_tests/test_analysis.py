@@ -118,7 +118,7 @@ def select_only(obj, vertices):
 
 def mesh_state(obj):
     """What an operator may change on the graph: selection, attributes, modifiers, the
-    stored analysis."""
+    patterns object, the stored analysis."""
     mesh = obj.data
     attributes = {}
     for attribute in mesh.attributes:
@@ -127,7 +127,8 @@ def mesh_state(obj):
     result = obj.road_analysis
     stored = {key: list(result[key]) for key in (analysis.OCCURRENCES, analysis.NON_OVERLAPPING,
                                                  analysis.PATTERN_EDGES) if key in result}
-    return (selection(obj), attributes, [m.name for m in obj.modifiers], obj.hide_render,
+    child = pattern_display.patterns_object(obj)
+    return (selection(obj), attributes, [m.name for m in obj.modifiers], obj.hide_render, child and child.name,
             [(i.order, i.frequency) for i in result.isogroups], result.topology, stored, result.active_index)
 
 
@@ -183,10 +184,14 @@ def test_analyze_finds_every_square(grid, op_results, reports):
     kind, message = reports()[-1]
     assert kind == 'INFO' and message.startswith("Analysed grid in") and "isogroups" in message
     assert op_results == [{'FINISHED'}]
-    # The overview colours edges by isogroup and adds the display modifier.
+    # The overview colours edges by isogroup, drawn by a child object that renders (the
+    # graph itself still does not).
     slots = pattern_display.read_slots(grid)
     assert slots.max() >= 1 and slots.max() <= pattern_display.PALETTE_SIZE
-    assert pattern_display.find_modifier(grid) is not None and not grid.hide_render
+    child = pattern_display.patterns_object(grid)
+    assert child is not None and child.name == "grid Patterns" and child.parent == grid
+    assert pattern_display.find_modifier(child) is not None and child.hide_select and not child.hide_render
+    assert grid.hide_render
 
 
 def test_list_matches_ggg_analyze(grid, ggg):
@@ -455,7 +460,8 @@ def test_clear_patterns(grid):
     assert bpy.ops.roads.analyze(max_order=3) == {'FINISHED'}
     assert bpy.ops.roads.clear_patterns() == {'FINISHED'}
     assert pattern_display.ATTRIBUTE not in grid.data.attributes
-    assert pattern_display.find_modifier(grid) is None and grid.hide_render
+    assert pattern_display.patterns_object(grid) is None and "grid Patterns" not in bpy.data.objects
+    assert "grid Patterns" not in bpy.data.meshes
     assert grid.road_analysis.has_result()
     assert bpy.ops.roads.clear_patterns(forget=True) == {'FINISHED'}
     assert not grid.road_analysis.has_result() and len(grid.road_analysis.isogroups) == 0
@@ -463,23 +469,29 @@ def test_clear_patterns(grid):
 
 
 def test_display_ribbons(grid):
-    """The Road Patterns modifier draws one ribbon per coloured edge, with its colour's
-    material, above the roads."""
+    """The patterns object draws one ribbon per coloured edge, with its colour's material,
+    along the edge, above the road surfaces, wherever the graph object is moved."""
     assert bpy.ops.roads.analyze(max_order=4) == {'FINISHED'}
-    bpy.context.view_layer.objects.active = grid
-    grid.road_analysis.active_index = square_group(grid)
+    grid.location = (1000.0, 500.0, 0.0)
+    index = square_group(grid)
+    grid.road_analysis.active_index = index
     slots = pattern_display.read_slots(grid)
+    child = pattern_display.patterns_object(grid)
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    ribbons = {}
+    ribbons = []
     for instance in depsgraph.object_instances:
-        if instance.is_instance and instance.parent is not None and instance.parent.original == grid:
-            slot_names = [s.material.name for s in instance.object.material_slots if s.material is not None]
-            assert len(slot_names) == 1
-            z = instance.matrix_world.translation.z
-            ribbons.setdefault(slot_names[0], []).append(z)
-    slot = grid.road_analysis.isogroups[square_group(grid)].color_slot
-    assert set(ribbons) == {pattern_display.material(slot).name}
-    assert len(ribbons[pattern_display.material(slot).name]) == np.count_nonzero(slots)
+        if instance.is_instance and instance.parent is not None and instance.parent.original == child:
+            materials = [s.material.name for s in instance.object.material_slots if s.material is not None]
+            heights = tuple(sorted({round(v.co.z, 4) for v in instance.object.data.vertices}))
+            ribbons.append((materials, tuple(instance.matrix_world.translation), heights))
+    slot = grid.road_analysis.isogroups[index].color_slot
+    assert slot > 0 and len(ribbons) == np.count_nonzero(slots) == 2 * SIZE * (SIZE - 1)
+    assert {tuple(m) for m, _, _ in ribbons} == {(pattern_display.material(slot).name,)}
+    assert {h for _, _, h in ribbons} == {(0.4,)}  # above the surfaces (their top is < 0.25 m)
+    edges = mesh_build.edge_vertices(grid.data)[slots > 0]
+    positions = mesh_build.positions_xy(grid.data)
+    midpoints = sorted(map(tuple, np.round((positions[edges[:, 0]] + positions[edges[:, 1]]) / 2 + (1000, 500), 1)))
+    assert sorted(tuple(np.round(t[:2], 1)) for _, t, _ in ribbons) == midpoints
     color = pattern_display.material(slot).diffuse_color
     assert tuple(color)[:3] == pytest.approx(pattern_display.slot_color_linear(slot))
 
@@ -512,12 +524,12 @@ def test_panels_draw(grid):
     grid.road_analysis.active_index = square_group(grid)
     text = _draw(analysis_panels.VIEW3D_PT_roads_isogroups)
     assert "isogroups in" in text and "max order 4" in text
-    assert "4 vertices, 4 edges" in text and "16 occurrences, 4 non-overlapping" in text
+    assert "4 vertices, 4 edges" in text and "16 occurrences" in text and "4 non-overlapping" in text
     labels = []
     item = grid.road_analysis.isogroups[square_group(grid)]
     ui_list = SimpleNamespace(layout_type='DEFAULT')
     analysis_panels.ROADS_UL_isogroups.draw_item(ui_list, bpy.context, _Layout(labels), None, item, 0, None, "")
-    assert labels == [str(item.rank), "4/4", "16", "4", "{:,.0f}".format(item.gain)]
+    assert labels == ["4", "16", "4", "{:.0f}".format(item.gain)]
 
 
 # --- undo and the modal run, in a Blender with a window -------------------------------------

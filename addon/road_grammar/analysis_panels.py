@@ -8,8 +8,23 @@ from .analysis_ops import (ROADS_OT_analyze, ROADS_OT_clear_patterns, ROADS_OT_f
                            ROADS_OT_select_isogroup, ROADS_OT_show_patterns)
 from .panels import _RoadsTab, _wrapped_labels
 
-# Column widths of the isogroup list (fractions of the remaining row, left to right).
-_COLUMNS = (("#", 0.16), ("Order", 0.22), ("Count", 0.32), ("Non-Ov.", 0.5), ("Gain", 1.0))
+# Columns of the isogroup list after the colour swatch: header and width (a fraction of
+# the rest of the row, left to right). The sidebar is narrow, so the headers are short
+# (docs/blender.md explains them): order (pattern vertices), occurrences, non-overlapping
+# occurrences, gain. The rank is the place in the list (and in the details below it).
+_COLUMNS = (("Order", 0.25), ("Occ.", 0.34), ("N-o.", 0.5), ("Gain", 1.0))
+
+
+def _compact(number):
+    """A count in at most 5 characters: 950, 9999, 12.3k, 456k, 1.2M."""
+    number = float(number)
+    if abs(number) < 10_000:
+        return "{:.0f}".format(number)
+    if abs(number) < 100_000:
+        return "{:.1f}k".format(number / 1e3)
+    if abs(number) < 1_000_000:
+        return "{:.0f}k".format(number / 1e3)
+    return "{:.1f}M".format(number / 1e6)
 
 
 def _columns(layout):
@@ -25,8 +40,8 @@ def _columns(layout):
 
 
 class ROADS_UL_isogroups(UIList):
-    """Isogroups of an analysis: rank and colour, order (vertices/edges), occurrences,
-    non-overlapping occurrences and gain."""
+    """Isogroups of an analysis, best first: colour, order, occurrences, non-overlapping
+    occurrences and gain."""
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_property, index=0, flt_flag=0):
         if self.layout_type == 'GRID':
@@ -37,12 +52,11 @@ class ROADS_UL_isogroups(UIList):
         swatch = row.row(align=True)
         swatch.ui_units_x = 0.8
         swatch.prop(item, "color", text="")
-        rank, order, count, non_overlapping, gain = _columns(row)
-        rank.label(text=str(item.rank))
-        order.label(text="{}/{}".format(item.order, item.edge_count))
-        count.label(text="{:,}".format(item.frequency))
-        non_overlapping.label(text="{:,}".format(item.non_overlapping_count))
-        gain.label(text="{:,.0f}".format(item.gain))
+        order, count, non_overlapping, gain = _columns(row)
+        order.label(text=str(item.order))
+        count.label(text=_compact(item.frequency))
+        non_overlapping.label(text=_compact(item.non_overlapping_count))
+        gain.label(text=_compact(item.gain))
 
 
 def _header(layout):
@@ -72,7 +86,7 @@ class VIEW3D_PT_roads_patterns(_RoadsTab, Panel):
         op = row.operator(ROADS_OT_find_similar.bl_idname, icon='RESTRICT_SELECT_OFF')
         op.tolerance, op.scale = settings.tolerance, settings.scale
         if graph is not None and graph.mode != 'EDIT':
-            box.label(text="Select a piece of the graph in Edit Mode", icon='INFO')
+            box.label(text="Select a block in Edit Mode")
 
         box = layout.box()
         box.label(text="Analyze {}".format(graph.name) if graph is not None else "Analyze (select a road graph)",
@@ -128,12 +142,12 @@ class VIEW3D_PT_roads_isogroups(_RoadsTab, Panel):
             layout.label(text="Not analysed yet")
             return
         col = layout.column(align=True)
-        col.label(text="{:,} isogroups{} in {:.2f} s".format(
-            result.listed, " ({:,} kept)".format(len(result.isogroups)) if len(result.isogroups) < result.listed
-            else "", result.seconds))
-        _wrapped_labels(col, result.parameters)
+        col.label(text="{:,} isogroups, {:.2f} s".format(result.listed, result.seconds))
+        if len(result.isogroups) < result.listed:
+            col.label(text="The best {:,} are kept".format(len(result.isogroups)))
+        _wrapped_labels(col, result.parameters, width=28)
         if result.stopped_by_budget:
-            col.label(text="Stopped early (occurrence budget)", icon='ERROR')
+            col.label(text="Stopped early (budget)", icon='ERROR')
         stale = None
         if graph.mode != 'EDIT':  # in Edit Mode, reading the mesh on every redraw is too costly
             try:
@@ -142,8 +156,8 @@ class VIEW3D_PT_roads_isogroups(_RoadsTab, Panel):
                 stale = str(ex)
         if stale is not None:
             box = layout.box()
-            box.label(text="The graph changed since", icon='ERROR')
-            _wrapped_labels(box, stale)
+            box.label(text="Out of date", icon='ERROR')
+            _wrapped_labels(box, stale, width=28)
 
         _header(layout)
         layout.template_list("ROADS_UL_isogroups", "", result, "isogroups", result, "active_index", rows=8)
@@ -153,19 +167,25 @@ class VIEW3D_PT_roads_isogroups(_RoadsTab, Panel):
             item = result.isogroups[index]
             box = layout.box()
             col = box.column(align=True)
-            col.label(text="Isogroup {}: {} vertices, {} edges".format(item.rank, item.order, item.edge_count))
-            col.label(text="{:,} occurrences, {:,} non-overlapping".format(item.frequency, item.non_overlapping_count))
-            col.label(text="({}{})".format(item.selection_method, ", exact" if item.selection_exact else ""))
-            col.label(text="Gain {:,.1f}, score {:,.1f}".format(item.gain, item.score))
-            col.label(text="Size {:.1f} m, aspect {:.2f}, {} leaves".format(item.size_m, item.aspect, item.leaves))
-            col.label(text="Irregularity {:.1f}\u00b0{}".format(
-                item.irregularity_deg, ", grew from {}".format(item.parent) if item.parent else ""))
-            row = box.row(align=True)
-            op = row.operator(ROADS_OT_select_isogroup.bl_idname, text="Select All")
+            col.label(text="Isogroup {}".format(item.rank))
+            col.label(text="{} vertices, {} edges".format(item.order, item.edge_count))
+            col.label(text="{:,} occurrences".format(item.frequency))
+            col.label(text="{:,} non-overlapping{}".format(item.non_overlapping_count,
+                                                           " (exact)" if item.selection_exact else ""))
+            _wrapped_labels(col, "by " + item.selection_method, width=28)
+            col.label(text="Gain {:,.1f}".format(item.gain))
+            col.label(text="Score {:,.1f}".format(item.score))
+            col.label(text="Size {:.1f} m, aspect {:.2f}".format(item.size_m, item.aspect))
+            col.label(text="{} leaves, irregular {:.1f}\u00b0".format(item.leaves, item.irregularity_deg))
+            if item.parent:
+                col.label(text="Grew from isogroup {}".format(item.parent))
+            col = box.column(align=True)
+            op = col.operator(ROADS_OT_select_isogroup.bl_idname, text="Select Occurrences",
+                              icon='RESTRICT_SELECT_OFF')
             op.index, op.only_non_overlapping = index, False
-            op = row.operator(ROADS_OT_select_isogroup.bl_idname, text="Non-Overlapping")
+            op = col.operator(ROADS_OT_select_isogroup.bl_idname, text="Select Non-Overlapping")
             op.index, op.only_non_overlapping = index, True
         row = layout.row(align=True)
-        op = row.operator(ROADS_OT_show_patterns.bl_idname, icon='COLOR')
+        op = row.operator(ROADS_OT_show_patterns.bl_idname, text="Overview", icon='COLOR')
         op.count = context.scene.road_analysis.overview_count
-        row.operator(ROADS_OT_clear_patterns.bl_idname, icon='X')
+        row.operator(ROADS_OT_clear_patterns.bl_idname, text="Clear", icon='X')

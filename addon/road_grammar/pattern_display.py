@@ -4,11 +4,16 @@ the selection of occurrence vertices.
 The colour of each graph edge is the INT edge attribute ``road_pattern`` of the graph
 mesh: 0 = none, 1..PALETTE_SIZE = the isogroup with that colour in the overview,
 MATCH_SLOT = an occurrence found by Find Similar (or an isogroup without an overview
-colour), SEED_SLOT = the seed itself. A Geometry Nodes modifier, "Road Patterns", draws
-every coloured edge as a flat ribbon a little above the road surfaces (as wide as the
-road, at least **Min Width**), with one material per colour, so the colours show in the
-Solid view (the materials' viewport colours), in Material Preview and in renders; it also
-runs in Edit Mode. The graph object renders for it (its own edges still do not).
+colour), SEED_SLOT = the seed itself.
+
+A child object of the graph, "<graph> Patterns", draws them: its Geometry Nodes modifier
+("Road Patterns") reads the graph's evaluated mesh (Object Info, so it follows Edit Mode
+too) and makes every coloured edge a flat ribbon a little above the road surfaces, as
+wide as the road (at least **Min Width**), with one material per colour, so the colours
+show in the Solid view (the materials' viewport colours), in Material Preview and in
+renders. Being a separate object that cannot be selected in the viewport, it gets no
+selection outline when the graph is selected, and it renders while the graph's own edges
+do not.
 
 Writing works in Object Mode (bulk foreach_set) and in Edit Mode (through bmesh, so that
 an edit-mode undo step restores it).
@@ -20,12 +25,13 @@ import bmesh
 import bpy
 import numpy as np
 
-from . import frames, importer, mesh_build
+from . import mesh_build
 from .surface import _input_sockets, _new_socket
 
 ATTRIBUTE = "road_pattern"
 NODE_GROUP_NAME = "Road Patterns"
 MODIFIER_NAME = "Road Patterns"
+OBJECT_KEY = "road_patterns"  # marks the child object that draws the colours
 MATERIAL_PREFIX = "Road Pattern"
 MARKER = "road_grammar_patterns_version"
 SLOT_MARKER = "road_grammar_pattern_slot"
@@ -52,7 +58,9 @@ PALETTE = (
 PALETTE_SIZE = len(PALETTE)
 MATCH_SLOT = PALETTE_SIZE + 1  # occurrences of a Find Similar seed
 SEED_SLOT = PALETTE_SIZE + 2   # the seed itself
-SLOT_COLORS = PALETTE + ("ff9a1f", "00e5ff")  # match: amber; seed: bright cyan
+# Match: sky blue; seed: magenta. Both differ from Edit Mode's orange selection, from each
+# other (also for red-green colour blindness) and from the grey roads.
+SLOT_COLORS = PALETTE + ("38b6ff", "ff3dcc")
 SLOT_NAMES = tuple(str(k) for k in range(1, PALETTE_SIZE + 1)) + ("Match", "Seed")
 NO_COLOR = (0.35, 0.35, 0.35)
 
@@ -136,7 +144,8 @@ class EdgeLookup:
 def write(obj, slots, vertex_mask, edges):
     """Set the colour slot of every edge of ``obj``'s mesh (``slots`` (M,)) and, when
     ``vertex_mask`` (N,) is given, select exactly those vertices and the edges between them
-    (nothing else). ``edges`` (M, 2) are the mesh's edges. Adds the display modifier."""
+    (nothing else). ``edges`` (M, 2) are the mesh's edges. Adds the object that draws the
+    colours."""
     mesh = obj.data
     slots = np.ascontiguousarray(slots, dtype=np.int32)
     edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
@@ -159,7 +168,7 @@ def write(obj, slots, vertex_mask, edges):
             if len(mesh.polygons):
                 mesh.polygons.foreach_set("select", _face_mask(mesh, vertex_mask))
         mesh.update()
-    ensure_modifier(obj)
+    ensure_object(obj)
 
 
 def _face_mask(mesh, vertex_mask):
@@ -207,7 +216,8 @@ def read_slots(obj):
 
 
 def clear(obj):
-    """Remove the colours (the attribute and the modifier) from ``obj``."""
+    """Remove the colours (the attribute and the object that draws them) from the road
+    graph ``obj``."""
     mesh = obj.data
     if obj.mode == 'EDIT':
         bm = bmesh.from_edit_mesh(mesh)
@@ -220,35 +230,52 @@ def clear(obj):
         if attribute is not None:
             mesh.attributes.remove(attribute)
         mesh.update()
-    modifier = find_modifier(obj)
-    if modifier is not None:
-        obj.modifiers.remove(modifier)
-    # Back to how an import leaves it: a graph with a surface does not render, unless it
-    # draws the arrows of nonterminals.
-    if importer.surface_object(obj) is not None and frames.find_modifier(obj) is None:
-        obj.hide_render = True
+    child = patterns_object(obj)
+    if child is not None:
+        child_mesh = child.data
+        bpy.data.objects.remove(child)
+        if child_mesh is not None and child_mesh.users == 0:
+            bpy.data.meshes.remove(child_mesh)
 
 
-# --- the modifier, its node group and the materials --------------------------------------
+# --- the object, its node group and the materials -------------------------------------------
+
+def patterns_object(graph_obj):
+    """The child of ``graph_obj`` that draws its pattern colours, else None."""
+    return next((child for child in graph_obj.children if child.get(OBJECT_KEY)), None)
+
 
 def find_modifier(obj):
+    """The Road Patterns modifier of ``obj`` (a patterns object), else None."""
     return next((m for m in obj.modifiers if m.type == 'NODES' and m.node_group is not None
                  and m.node_group.get(MARKER) is not None), None)
 
 
-def ensure_modifier(obj):
-    """The Road Patterns modifier on ``obj`` (added once, with the shared node group); the
-    object then renders, so that the ribbons show in renders."""
-    modifier = find_modifier(obj)
-    if modifier is not None and modifier.node_group.get(MARKER) == NODE_GROUP_VERSION:
-        return modifier
-    if modifier is not None:
-        obj.modifiers.remove(modifier)
-    modifier = obj.modifiers.new(MODIFIER_NAME, 'NODES')
-    modifier.node_group = node_group()
-    modifier.show_in_editmode = True
-    obj.hide_render = False
-    return modifier
+def ensure_object(graph_obj):
+    """The patterns object of ``graph_obj``: made once, a child at the graph's origin in the
+    graph's collections, with the Road Patterns modifier reading the graph."""
+    child = patterns_object(graph_obj)
+    if child is None:
+        name = graph_obj.name + " Patterns"
+        mesh = bpy.data.meshes.new(name)
+        child = bpy.data.objects.new(name, mesh)
+        child[OBJECT_KEY] = 1
+        child.parent = graph_obj
+        child.hide_select = True  # clicks select the graph, and no outline covers the colours
+        collections = graph_obj.users_collection or (bpy.context.scene.collection,)
+        for collection in collections:
+            collection.objects.link(child)
+    modifier = find_modifier(child)
+    if modifier is None or modifier.node_group.get(MARKER) != NODE_GROUP_VERSION:
+        if modifier is not None:
+            child.modifiers.remove(modifier)
+        modifier = child.modifiers.new(MODIFIER_NAME, 'NODES')
+        modifier.node_group = node_group()
+    graph_input = modifier_input(modifier, "Graph")
+    if modifier.get(graph_input) != graph_obj:
+        modifier[graph_input] = graph_obj
+        child.update_tag()
+    return child
 
 
 def modifier_input(modifier, name):
@@ -297,25 +324,28 @@ def _socket(sockets, name, kind=None):
 def node_group():
     """The shared "Road Patterns" node group, created on first use.
 
-    Every coloured edge (``road_pattern`` > 0) becomes one point at its middle carrying its
-    direction, length and width; a unit quad, raised by Height and with the material of
-    its colour, is instanced on it, turned along the edge and scaled to (length + width)
-    x width (the extra length covers the corners where two coloured edges meet). The
-    input geometry is kept, so the graph stays editable."""
+    The mesh of the **Graph** object (its own coordinates) is read; every coloured edge
+    (``road_pattern`` > 0) becomes one point at its middle carrying its direction, length
+    and width; a unit quad, raised by Height and with the material of its colour, is
+    instanced on it, turned along the edge and scaled to (length + width) x width (the
+    extra length covers the corners where two coloured edges meet)."""
     for group in bpy.data.node_groups:
         if group.bl_idname == 'GeometryNodeTree' and group.get(MARKER) == NODE_GROUP_VERSION:
             return group
     tree = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
     tree[MARKER] = NODE_GROUP_VERSION
-    _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")
+    _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")  # the patterns object's own: empty
+    _new_socket(tree, 'INPUT', 'NodeSocketObject', "Graph")
     for name, default, low, high in (("Width Scale", 1.0, 0.0, 10.0), ("Min Width", 4.0, 0.0, 1000.0),
                                      ("Height", 0.4, -1000.0, 1000.0)):
         socket = _new_socket(tree, 'INPUT', 'NodeSocketFloat', name)
         socket.default_value, socket.min_value, socket.max_value = default, low, high
     _new_socket(tree, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
     nodes, links = tree.nodes, tree.links
-    group_in = _node(nodes, 'NodeGroupInput', (-1400, 0))
+    group_in = _node(nodes, 'NodeGroupInput', (-1600, 0))
     group_out = _node(nodes, 'NodeGroupOutput', (1400, 0))
+    graph = _node(nodes, 'GeometryNodeObjectInfo', (-1200, 0), transform_space='ORIGINAL')
+    links.new(group_in.outputs["Graph"], graph.inputs["Object"])
 
     # Coloured edges -> points with the edge's direction (captured on the edges).
     pattern = _node(nodes, 'GeometryNodeInputNamedAttribute', (-1200, -300), data_type='INT')
@@ -328,7 +358,7 @@ def node_group():
     links.new(edge_vertices.outputs["Position 2"], direction.inputs[0])
     links.new(edge_vertices.outputs["Position 1"], direction.inputs[1])
     capture = _node(nodes, 'GeometryNodeCaptureAttribute', (-800, 0), data_type='FLOAT_VECTOR', domain='EDGE')
-    links.new(group_in.outputs["Geometry"], capture.inputs["Geometry"])
+    links.new(graph.outputs["Geometry"], capture.inputs["Geometry"])
     links.new(direction.outputs["Vector"], _socket(capture.inputs, "Value", 'VECTOR'))
     to_points = _node(nodes, 'GeometryNodeMeshToPoints', (-600, 0), mode='EDGES')
     links.new(capture.outputs["Geometry"], to_points.inputs["Mesh"])
@@ -391,6 +421,5 @@ def node_group():
         links.new(rotation.outputs[0], instance.inputs["Rotation"])
         links.new(scale.outputs[0], instance.inputs["Scale"])
         links.new(instance.outputs["Instances"], join.inputs["Geometry"])
-    links.new(group_in.outputs["Geometry"], join.inputs["Geometry"])
     links.new(join.outputs["Geometry"], group_out.inputs["Geometry"])
     return tree
