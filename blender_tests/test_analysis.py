@@ -523,7 +523,7 @@ def test_panels_draw(grid):
     assert bpy.ops.roads.analyze(max_order=4) == {'FINISHED'}
     grid.road_analysis.active_index = square_group(grid)
     text = _draw(analysis_panels.VIEW3D_PT_roads_isogroups)
-    assert "isogroups in" in text and "max order 4" in text
+    assert "9 isogroups, " in text and "max\norder 4" in text
     assert "4 vertices, 4 edges" in text and "16 occurrences" in text and "4 non-overlapping" in text
     labels = []
     item = grid.road_analysis.isogroups[square_group(grid)]
