@@ -15,12 +15,13 @@ import numpy as np
 import pytest
 
 from conftest import import_roads, snapshot, write_osm
-from road_grammar import analysis, analysis_ops, analysis_panels, mesh_build, pattern_display
+from road_grammar import analysis, analysis_ops, analysis_panels, importer, mesh_build, pattern_display
 
 HERE = Path(__file__).resolve().parent
 
 # A 5 x 5 street grid, 100 m blocks (16 squares), with two dead-end spurs that belong to no
-# square: one 60 m east of the middle of the east side, one 50 m south-west of a corner.
+# square: one 60 m east of the middle of the east side, and a curved footway (two shape
+# nodes) ending 50 m south-west of a corner.
 SPACING = 100.0
 SIZE = 5
 LAT0, LON0 = 46.0, 8.95
@@ -39,13 +40,14 @@ def write_grid(path):
             nodes[1 + j * SIZE + i] = _latlon(i * SPACING, j * SPACING)
     nodes[100] = _latlon((SIZE - 1) * SPACING + 60.0, 2 * SPACING)
     nodes[101] = _latlon(-35.0, -35.0)
+    nodes[102], nodes[103] = _latlon(-5.0, -20.0), _latlon(-15.0, -33.0)
     ways = []
     for j in range(SIZE):
         ways.append((1000 + j, [1 + j * SIZE + i for i in range(SIZE)], {"highway": "residential"}))
     for i in range(SIZE):
         ways.append((2000 + i, [1 + j * SIZE + i for j in range(SIZE)], {"highway": "residential"}))
     ways.append((3000, [1 + 2 * SIZE + SIZE - 1, 100], {"highway": "service"}))
-    ways.append((3001, [1, 101], {"highway": "footway"}))
+    ways.append((3001, [1, 102, 103, 101], {"highway": "footway"}))
     return write_osm(path, nodes, ways)
 
 
@@ -487,13 +489,49 @@ def test_display_ribbons(grid):
     slot = grid.road_analysis.isogroups[index].color_slot
     assert slot > 0 and len(ribbons) == np.count_nonzero(slots) == 2 * SIZE * (SIZE - 1)
     assert {tuple(m) for m, _, _ in ribbons} == {(pattern_display.material(slot).name,)}
-    assert {h for _, _, h in ribbons} == {(0.4,)}  # above the surfaces (their top is < 0.25 m)
+    # Above the surfaces (their top is < 0.25 m), a little higher per colour.
+    assert {h for _, _, h in ribbons} == {(round(0.4 + pattern_display.SLOT_STEP_M * slot, 4),)}
     edges = mesh_build.edge_vertices(grid.data)[slots > 0]
     positions = mesh_build.positions_xy(grid.data)
     midpoints = sorted(map(tuple, np.round((positions[edges[:, 0]] + positions[edges[:, 1]]) / 2 + (1000, 500), 1)))
     assert sorted(tuple(np.round(t[:2], 1)) for _, t, _ in ribbons) == midpoints
     color = pattern_display.material(slot).diffuse_color
     assert tuple(color)[:3] == pytest.approx(pattern_display.slot_color_linear(slot))
+
+
+def _ribbon_midpoints(obj):
+    child = pattern_display.patterns_object(obj)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    return sorted(tuple(np.round(np.array(instance.matrix_world.translation)[:2], 1))
+                  for instance in depsgraph.object_instances
+                  if instance.is_instance and instance.parent is not None and instance.parent.original == child)
+
+
+def test_display_follows_the_road_surface(grid):
+    """Colours follow the roads' polylines (the curved footway: 3 ribbons for its one
+    edge) while the surface fits the graph, and the straight edges once it does not."""
+    mesh = grid.data
+    edges = mesh_build.edge_vertices(mesh)
+    positions = mesh_build.positions_xy(mesh)
+    surface = importer.surface_object(grid)
+    owner = mesh_build.read_attribute(surface.data, importer.SURFACE_EDGE, np.int64)
+    curved = int(np.argmax(np.bincount(owner)))
+    assert np.bincount(owner)[curved] == 3
+    straight = next(i for i in range(len(edges)) if i != curved)
+    slots = np.zeros(len(edges), dtype=np.int32)
+    slots[[curved, straight]] = (1, 2)
+    pattern_display.write(grid, slots, None, analysis.MeshTopology(grid))
+    surface_points = mesh_build.positions_xy(surface.data)
+    segments = mesh_build.edge_vertices(surface.data)[np.isin(owner, [curved, straight])]
+    expected = sorted(tuple(np.round((surface_points[a] + surface_points[b]) / 2, 1)) for a, b in segments)
+    assert len(expected) == 4 and _ribbon_midpoints(grid) == expected
+    # An edit moves the footway's end: the surface no longer fits; straight edges.
+    end = edges[curved][np.argmin(positions[edges[curved], 0])]
+    mesh.vertices[end].co.x -= 10.0
+    pattern_display.write(grid, slots, None, analysis.MeshTopology(grid))
+    positions = mesh_build.positions_xy(mesh)
+    expected = sorted(tuple(np.round((positions[a] + positions[b]) / 2, 1)) for a, b in edges[[curved, straight]])
+    assert _ribbon_midpoints(grid) == expected
 
 
 # --- the panel -------------------------------------------------------------------------------
@@ -523,7 +561,7 @@ def test_panels_draw(grid):
     assert bpy.ops.roads.analyze(max_order=4) == {'FINISHED'}
     grid.road_analysis.active_index = square_group(grid)
     text = _draw(analysis_panels.VIEW3D_PT_roads_isogroups)
-    assert "9 isogroups, " in text and "max\norder 4" in text
+    assert "{} isogroups, ".format(grid.road_analysis.listed) in text and "max\norder 4" in text
     assert "4 vertices, 4 edges" in text and "16 occurrences" in text and "4 non-overlapping" in text
     labels = []
     item = grid.road_analysis.isogroups[square_group(grid)]

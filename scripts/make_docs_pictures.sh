@@ -22,4 +22,9 @@ if [ -f "$root/scripts/render_grammar_demo.py" ]; then
   GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
     --python "$root/scripts/render_grammar_demo.py" -- "$out/sierpinski_blender.png" >/dev/null
 fi
+if [ -f "$root/scripts/render_patterns_demo.py" ]; then
+  GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
+    --python "$root/scripts/render_patterns_demo.py" -- "$out/patterns_overview.png" "$out/patterns_similar.png" \
+    >/dev/null
+fi
 echo "pictures written to $out"

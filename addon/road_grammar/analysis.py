@@ -44,7 +44,8 @@ DEFAULT_MAX_STORED = 200
 SCALE_ITEMS = (
     ('SIMILARITY', "Similarity", "Patterns match at any size (rotation, translation and uniform scale)"),
     ('RIGID', "Rigid", "Patterns match only at the same size (rotation and translation)"),
-    ('RANGE', "Scale Range", "Patterns match when their sizes differ by a factor of 2 at most"),
+    ('RANGE', "Scale Range", "Patterns match at sizes from half to twice the seed's (Analyze: sizes within a "
+     "factor 4 of each other)"),
 )
 SCALE_NAMES = {'SIMILARITY': "similarity", 'RIGID': "rigid", 'RANGE': "range"}
 
@@ -408,7 +409,7 @@ def show_isogroup(obj, index, select=True, only_non_overlapping=False):
     if select:
         vertex_mask = np.zeros(topology.vertex_count, dtype=bool)
         vertex_mask[occurrences.ravel()] = True
-    pattern_display.write(obj, slots, vertex_mask, topology.edges)
+    pattern_display.write(obj, slots, vertex_mask, topology)
     return len(occurrences), 0 if vertex_mask is None else int(vertex_mask.sum())
 
 
@@ -434,7 +435,7 @@ def show_overview(obj, count=None):
         free = (slots[edge_ids] == 0).all(axis=1)
         slots[edge_ids[free].ravel()] = item.color_slot
         shown += int(free.sum())
-    pattern_display.write(obj, slots, None, topology.edges)
+    pattern_display.write(obj, slots, None, topology)
     with pattern_display.suspended_updates():
         result.active_index = -1
     return shown

@@ -130,13 +130,14 @@ class ROADS_OT_find_similar(Operator):
             slots[edge_ids[:1].ravel()] = pattern_display.SEED_SLOT  # occurrence 0 is the seed
             mask = np.zeros(topology.vertex_count, dtype=bool)
             mask[occurrences.ravel()] = True
-            pattern_display.write(obj, slots, mask, topology.edges)
+            pattern_display.write(obj, slots, mask, topology)
 
         count = len(occurrences)
         self.report({'INFO'}, "{} of the selected pattern ({}, {}): the seed and {} more, {} non-overlapping; "
                     "{} selected".format(_plural(count, "occurrence"), _plural(found.order, "vertex"),
-                                         _plural(found.edge_count, "edge"), count - 1,
-                                         len(found.non_overlapping), _plural(int(mask.sum()), "vertex")))
+                                         _plural(found.edge_count, "edge"), "{:,}".format(count - 1),
+                                         "{:,}".format(len(found.non_overlapping)),
+                                         _plural(int(mask.sum()), "vertex")))
         return {'FINISHED'}
 
 
@@ -444,7 +445,7 @@ class ROADS_OT_analyze(Operator):
         best = groups[0]
         text = "Analysed {} in {:.2f} s: {} (best: {}, {}, {} non-overlapping)".format(
             obj.name, seconds, _plural(len(groups), "isogroup"), _plural(best.order, "vertex"),
-            _plural(best.frequency, "occurrence"), len(best.non_overlapping))
+            _plural(best.frequency, "occurrence"), "{:,}".format(len(best.non_overlapping)))
         if kept < len(groups):
             text += "; the best {:,} kept".format(kept)
         return text + "; {} coloured".format(_plural(shown, "occurrence"))

@@ -9,9 +9,10 @@ colour), SEED_SLOT = the seed itself.
 A child object of the graph, "<graph> Patterns", draws them: its Geometry Nodes modifier
 ("Road Patterns") reads the graph's evaluated mesh (Object Info, so it follows Edit Mode
 too) and makes every coloured edge a flat ribbon a little above the road surfaces, as
-wide as the road (at least **Min Width**), with one material per colour, so the colours
-show in the Solid view (the materials' viewport colours), in Material Preview and in
-renders. Being a separate object that cannot be selected in the viewport, it gets no
+wide as the road (at least **Min Width**), along the road's polyline in the surface
+while that still fits the graph (else straight), with one material per colour, so the
+colours show in the Solid view (the materials' viewport colours), in Material Preview and
+in renders. Being a separate object that cannot be selected in the viewport, it gets no
 selection outline when the graph is selected, and it renders while the graph's own edges
 do not.
 
@@ -25,13 +26,18 @@ import bmesh
 import bpy
 import numpy as np
 
-from . import mesh_build
+from . import importer, mesh_build
 from .surface import _input_sockets, _new_socket
 
 ATTRIBUTE = "road_pattern"
 NODE_GROUP_NAME = "Road Patterns"
 MODIFIER_NAME = "Road Patterns"
 OBJECT_KEY = "road_patterns"  # marks the child object that draws the colours
+# A surface polyline fits its graph edge when its ends are this close to the edge's vertices.
+SURFACE_FIT_M = 0.05
+# Colours are drawn this much higher per slot, so two colours meeting at a crossing do not
+# flicker (the seed, the highest slot, is on top).
+SLOT_STEP_M = 0.004
 MATERIAL_PREFIX = "Road Pattern"
 MARKER = "road_grammar_patterns_version"
 SLOT_MARKER = "road_grammar_pattern_slot"
@@ -141,20 +147,21 @@ class EdgeLookup:
 
 # --- writing colours and selection --------------------------------------------------------
 
-def write(obj, slots, vertex_mask, edges):
-    """Set the colour slot of every edge of ``obj``'s mesh (``slots`` (M,)) and, when
-    ``vertex_mask`` (N,) is given, select exactly those vertices and the edges between them
-    (nothing else). ``edges`` (M, 2) are the mesh's edges. Adds the object that draws the
-    colours."""
+def write(obj, slots, vertex_mask, topology):
+    """Set the colour slot of every edge of the road graph ``obj`` (``slots`` (M,)) and,
+    when ``vertex_mask`` (N,) is given, select exactly those vertices and the edges between
+    them (nothing else). ``topology`` (analysis.MeshTopology) is the graph as it is now.
+    Adds (or refreshes) the object that draws the colours."""
     mesh = obj.data
     slots = np.ascontiguousarray(slots, dtype=np.int32)
-    edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    edges = np.asarray(topology.edges, dtype=np.int64).reshape(-1, 2)
     if len(slots) != len(edges):
         raise ValueError("{} colours for {} edges".format(len(slots), len(edges)))
     edge_mask = None
     if vertex_mask is not None:
         vertex_mask = np.ascontiguousarray(vertex_mask, dtype=bool)
         edge_mask = vertex_mask[edges[:, 0]] & vertex_mask[edges[:, 1]] if len(edges) else np.zeros(0, dtype=bool)
+    polylines = surface_polylines(obj, topology.positions, edges)
     existing = mesh.attributes.get(ATTRIBUTE)
     if existing is not None and (existing.domain != 'EDGE' or existing.data_type != 'INT'):
         mesh.attributes.remove(existing)
@@ -168,7 +175,38 @@ def write(obj, slots, vertex_mask, edges):
             if len(mesh.polygons):
                 mesh.polygons.foreach_set("select", _face_mask(mesh, vertex_mask))
         mesh.update()
-    ensure_object(obj)
+    ensure_object(obj, polylines)
+
+
+def surface_polylines(graph_obj, positions, edges):
+    """(points, segments, graph edge of each segment, width of each segment) of the road
+    surface of ``graph_obj`` when it still fits the graph (``positions``, ``edges``): every
+    edge has a polyline, from its first vertex to its second. Else None (e.g. no surface, or
+    vertices or edges edited since it was built): the colours are then drawn straight."""
+    surface_obj = importer.surface_object(graph_obj)
+    if surface_obj is None or surface_obj.type != 'MESH':
+        return None
+    mesh = surface_obj.data
+    for name, kind in ((importer.SURFACE_EDGE, 'INT'), ("width", 'FLOAT')):
+        attribute = mesh.attributes.get(name)
+        if attribute is None or attribute.domain != 'EDGE' or attribute.data_type != kind:
+            return None
+    points = mesh_build.positions_xy(mesh)
+    segments = mesh_build.edge_vertices(mesh)
+    owner = mesh_build.read_attribute(mesh, importer.SURFACE_EDGE, np.int64)
+    width = mesh_build.read_attribute(mesh, "width", np.float64)
+    edge_count = len(edges)
+    if edge_count == 0 or len(owner) == 0 or owner.min() < 0 or owner.max() >= edge_count:
+        return None
+    offsets, line_points = mesh_build.segment_polylines(points, segments, owner, edge_count)
+    if np.any(np.diff(offsets) < 2):
+        return None
+    positions = np.asarray(positions, dtype=np.float64)
+    ends_fit = (np.linalg.norm(line_points[offsets[:-1]] - positions[edges[:, 0]], axis=1) < SURFACE_FIT_M) & \
+               (np.linalg.norm(line_points[offsets[1:] - 1] - positions[edges[:, 1]], axis=1) < SURFACE_FIT_M)
+    if not np.all(ends_fit):
+        return None
+    return points, segments, owner, width
 
 
 def _face_mask(mesh, vertex_mask):
@@ -251,20 +289,28 @@ def find_modifier(obj):
                  and m.node_group.get(MARKER) is not None), None)
 
 
-def ensure_object(graph_obj):
+def ensure_object(graph_obj, polylines=None):
     """The patterns object of ``graph_obj``: made once, a child at the graph's origin in the
-    graph's collections, with the Road Patterns modifier reading the graph."""
+    graph's collections, with the Road Patterns modifier reading the graph. ``polylines``
+    (from surface_polylines) become its mesh, so the colours follow the roads' curves;
+    without them it draws the graph's straight edges."""
     child = patterns_object(graph_obj)
     if child is None:
         name = graph_obj.name + " Patterns"
-        mesh = bpy.data.meshes.new(name)
-        child = bpy.data.objects.new(name, mesh)
+        child = bpy.data.objects.new(name, bpy.data.meshes.new(name))
         child[OBJECT_KEY] = 1
         child.parent = graph_obj
         child.hide_select = True  # clicks select the graph, and no outline covers the colours
         collections = graph_obj.users_collection or (bpy.context.scene.collection,)
         for collection in collections:
             collection.objects.link(child)
+    if polylines is None:
+        child.data.clear_geometry()
+    else:
+        points, segments, owner, width = polylines
+        mesh_build.fill_edge_mesh(child.data, points, segments,
+                                  {importer.SURFACE_EDGE: ('INT', owner), "width": ('FLOAT', width)})
+    child.data.update()
     modifier = find_modifier(child)
     if modifier is None or modifier.node_group.get(MARKER) != NODE_GROUP_VERSION:
         if modifier is not None:
@@ -274,7 +320,8 @@ def ensure_object(graph_obj):
     graph_input = modifier_input(modifier, "Graph")
     if modifier.get(graph_input) != graph_obj:
         modifier[graph_input] = graph_obj
-        child.update_tag()
+    modifier[modifier_input(modifier, "Follow Surface")] = polylines is not None
+    child.update_tag()
     return child
 
 
@@ -324,32 +371,53 @@ def _socket(sockets, name, kind=None):
 def node_group():
     """The shared "Road Patterns" node group, created on first use.
 
-    The mesh of the **Graph** object (its own coordinates) is read; every coloured edge
-    (``road_pattern`` > 0) becomes one point at its middle carrying its direction, length
-    and width; a unit quad, raised by Height and with the material of its colour, is
-    instanced on it, turned along the edge and scaled to (length + width) x width (the
-    extra length covers the corners where two coloured edges meet)."""
+    With **Follow Surface**, the object's own mesh (a copy of the road surface's
+    polylines, each segment with its `graph_edge` and `width`) is drawn, each segment in the
+    colour of its graph edge, read from the **Graph** object's mesh (Sample Index of
+    `road_pattern` at `graph_edge`): so the colours follow the roads' curves and still come
+    from the graph, also in Edit Mode. Without it, the graph's own (straight) edges are
+    drawn. Every coloured edge or segment becomes one point at its middle carrying its
+    direction, length and width; a unit quad, raised by Height (and a little more per
+    colour) and with the material of its colour, is instanced on it, turned along it and
+    scaled to (length + width) x width (the extra length covers the corners)."""
     for group in bpy.data.node_groups:
         if group.bl_idname == 'GeometryNodeTree' and group.get(MARKER) == NODE_GROUP_VERSION:
             return group
     tree = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
     tree[MARKER] = NODE_GROUP_VERSION
-    _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")  # the patterns object's own: empty
+    _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")  # the surface polylines, or nothing
     _new_socket(tree, 'INPUT', 'NodeSocketObject', "Graph")
+    _new_socket(tree, 'INPUT', 'NodeSocketBool', "Follow Surface")
     for name, default, low, high in (("Width Scale", 1.0, 0.0, 10.0), ("Min Width", 4.0, 0.0, 1000.0),
                                      ("Height", 0.4, -1000.0, 1000.0)):
         socket = _new_socket(tree, 'INPUT', 'NodeSocketFloat', name)
         socket.default_value, socket.min_value, socket.max_value = default, low, high
     _new_socket(tree, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
     nodes, links = tree.nodes, tree.links
-    group_in = _node(nodes, 'NodeGroupInput', (-1600, 0))
+    group_in = _node(nodes, 'NodeGroupInput', (-2000, 0))
     group_out = _node(nodes, 'NodeGroupOutput', (1400, 0))
-    graph = _node(nodes, 'GeometryNodeObjectInfo', (-1200, 0), transform_space='ORIGINAL')
+    graph = _node(nodes, 'GeometryNodeObjectInfo', (-1800, 300), transform_space='ORIGINAL')
     links.new(group_in.outputs["Graph"], graph.inputs["Object"])
 
-    # Coloured edges -> points with the edge's direction (captured on the edges).
-    pattern = _node(nodes, 'GeometryNodeInputNamedAttribute', (-1200, -300), data_type='INT')
+    # The surface polylines with the colour of their graph edge stored on each segment.
+    pattern = _node(nodes, 'GeometryNodeInputNamedAttribute', (-1800, -300), data_type='INT')
     pattern.inputs["Name"].default_value = ATTRIBUTE
+    owner = _node(nodes, 'GeometryNodeInputNamedAttribute', (-1800, -450), data_type='INT')
+    owner.inputs["Name"].default_value = importer.SURFACE_EDGE
+    sample = _node(nodes, 'GeometryNodeSampleIndex', (-1600, -300), data_type='INT', domain='EDGE')
+    links.new(graph.outputs["Geometry"], sample.inputs["Geometry"])
+    links.new(_socket(pattern.outputs, "Attribute"), _socket(sample.inputs, "Value", 'INT'))
+    links.new(_socket(owner.outputs, "Attribute"), sample.inputs["Index"])
+    store = _node(nodes, 'GeometryNodeStoreNamedAttribute', (-1400, 0), data_type='INT', domain='EDGE')
+    store.inputs["Name"].default_value = ATTRIBUTE
+    links.new(group_in.outputs["Geometry"], store.inputs["Geometry"])
+    links.new(_socket(sample.outputs, "Value", 'INT'), _socket(store.inputs, "Value", 'INT'))
+    lines = _node(nodes, 'GeometryNodeSwitch', (-1200, 200), input_type='GEOMETRY')
+    links.new(group_in.outputs["Follow Surface"], _socket(lines.inputs, "Switch", 'BOOLEAN'))
+    links.new(graph.outputs["Geometry"], _socket(lines.inputs, "False", 'GEOMETRY'))
+    links.new(store.outputs["Geometry"], _socket(lines.inputs, "True", 'GEOMETRY'))
+
+    # Coloured edges -> points with the edge's direction (captured on the edges).
     coloured = _node(nodes, 'FunctionNodeCompare', (-1000, -300), data_type='INT', operation='GREATER_THAN')
     links.new(_socket(pattern.outputs, "Attribute"), _socket(coloured.inputs, "A", 'INT'))
     _socket(coloured.inputs, "B", 'INT').default_value = 0
@@ -358,7 +426,7 @@ def node_group():
     links.new(edge_vertices.outputs["Position 2"], direction.inputs[0])
     links.new(edge_vertices.outputs["Position 1"], direction.inputs[1])
     capture = _node(nodes, 'GeometryNodeCaptureAttribute', (-800, 0), data_type='FLOAT_VECTOR', domain='EDGE')
-    links.new(graph.outputs["Geometry"], capture.inputs["Geometry"])
+    links.new(_socket(lines.outputs, "Output", 'GEOMETRY'), capture.inputs["Geometry"])
     links.new(direction.outputs["Vector"], _socket(capture.inputs, "Value", 'VECTOR'))
     to_points = _node(nodes, 'GeometryNodeMeshToPoints', (-600, 0), mode='EDGES')
     links.new(capture.outputs["Geometry"], to_points.inputs["Mesh"])
@@ -391,29 +459,31 @@ def node_group():
     links.new(ribbon_length.outputs[0], scale.inputs["X"])
     links.new(ribbon_width.outputs[0], scale.inputs["Y"])
 
-    # The unit quad, raised by Height.
+    # The unit quad.
     quad = _node(nodes, 'GeometryNodeMeshGrid', (-600, 400))
     quad.inputs["Size X"].default_value = 1.0
     quad.inputs["Size Y"].default_value = 1.0
     quad.inputs["Vertices X"].default_value = 2
     quad.inputs["Vertices Y"].default_value = 2
-    lift = _node(nodes, 'ShaderNodeCombineXYZ', (-600, 200))
-    links.new(group_in.outputs["Height"], lift.inputs["Z"])
-    raised = _node(nodes, 'GeometryNodeTransform', (-400, 400))
-    links.new(quad.outputs["Mesh"], raised.inputs["Geometry"])
-    links.new(lift.outputs[0], raised.inputs["Translation"])
 
-    # One instancing per colour, each with its material.
+    # One instancing per colour, each with its material and height.
     join = _node(nodes, 'GeometryNodeJoinGeometry', (1100, 0))
-    slot_count = len(SLOT_COLORS)
-    for slot in range(slot_count, 0, -1):
-        y = 800 - 220 * slot
-        is_slot = _node(nodes, 'FunctionNodeCompare', (200, y), data_type='INT', operation='EQUAL')
-        links.new(_socket(pattern.outputs, "Attribute"), _socket(is_slot.inputs, "A", 'INT'))
-        _socket(is_slot.inputs, "B", 'INT').default_value = slot
+    for slot in range(len(SLOT_COLORS), 0, -1):
+        y = 800 - 260 * slot
+        height = _node(nodes, 'ShaderNodeMath', (-200, y), operation='ADD')
+        links.new(group_in.outputs["Height"], height.inputs[0])
+        height.inputs[1].default_value = SLOT_STEP_M * slot
+        lift = _node(nodes, 'ShaderNodeCombineXYZ', (0, y))
+        links.new(height.outputs[0], lift.inputs["Z"])
+        raised = _node(nodes, 'GeometryNodeTransform', (200, y))
+        links.new(quad.outputs["Mesh"], raised.inputs["Geometry"])
+        links.new(lift.outputs[0], raised.inputs["Translation"])
         set_material = _node(nodes, 'GeometryNodeSetMaterial', (400, y))
         set_material.inputs["Material"].default_value = material(slot)
         links.new(raised.outputs["Geometry"], set_material.inputs["Geometry"])
+        is_slot = _node(nodes, 'FunctionNodeCompare', (400, y - 150), data_type='INT', operation='EQUAL')
+        links.new(_socket(pattern.outputs, "Attribute"), _socket(is_slot.inputs, "A", 'INT'))
+        _socket(is_slot.inputs, "B", 'INT').default_value = slot
         instance = _node(nodes, 'GeometryNodeInstanceOnPoints', (700, y))
         links.new(to_points.outputs["Points"], instance.inputs["Points"])
         links.new(_socket(is_slot.outputs, "Result"), instance.inputs["Selection"])
