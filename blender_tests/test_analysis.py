@@ -232,6 +232,14 @@ def test_choosing_an_item_selects_its_occurrences(grid):
         own = {mesh_edges[tuple(sorted((o[a], o[b])))] for o in occurrences.tolist() for a, b in pattern_edges.tolist()}
         slot = result.isogroups[index].color_slot or pattern_display.MATCH_SLOT
         assert set(np.flatnonzero(slots).tolist()) == own and set(slots[list(own)].tolist()) == {slot}
+    # In Edit Mode too.
+    select_only(grid, [])
+    bpy.ops.object.mode_set(mode='EDIT')
+    result.active_index = square_group(grid)
+    assert grid.mode == 'EDIT'
+    bpy.ops.object.mode_set(mode='OBJECT')
+    assert selection(grid)[0] == set(grid_cells(grid))
+    assert np.count_nonzero(pattern_display.read_slots(grid)) == 2 * SIZE * (SIZE - 1)
 
 
 def test_select_isogroup_non_overlapping_and_overview(grid, op_results):
@@ -532,6 +540,25 @@ def test_display_follows_the_road_surface(grid):
     positions = mesh_build.positions_xy(mesh)
     expected = sorted(tuple(np.round((positions[a] + positions[b]) / 2, 1)) for a, b in edges[[curved, straight]])
     assert _ribbon_midpoints(grid) == expected
+    # Back on the surface; then a topology edit (the east spur removed, edges renumbered)
+    # without writing the colours again: the polylines no longer fit, the straight edges
+    # (which keep their colour attribute) are drawn.
+    mesh.vertices[end].co.x += 10.0
+    pattern_display.write(grid, slots, None, analysis.MeshTopology(grid))
+    assert len(_ribbon_midpoints(grid)) == 4
+    east = int(np.argmax(positions[:, 0]))
+    bm = bmesh.new()
+    bm.from_mesh(mesh)
+    bm.verts.ensure_lookup_table()
+    bm.verts.remove(bm.verts[east])
+    bm.to_mesh(mesh)
+    bm.free()
+    mesh.update()
+    edges, positions = mesh_build.edge_vertices(mesh), mesh_build.positions_xy(mesh)
+    coloured = edges[pattern_display.read_slots(grid) > 0]
+    assert len(coloured) == 2
+    assert _ribbon_midpoints(grid) == sorted(tuple(np.round((positions[a] + positions[b]) / 2, 1))
+                                             for a, b in coloured)
 
 
 # --- the panel -------------------------------------------------------------------------------

@@ -29,7 +29,7 @@ running = {}
 # Events a running modal analysis lets through to the viewport: navigation only.
 _NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'WHEELINMOUSE', 'WHEELOUTMOUSE', 'TRACKPADPAN',
                'TRACKPADZOOM', 'MOUSEROTATE', 'MOUSEMOVE', 'INBETWEEN_MOUSEMOVE', 'NDOF_MOTION', 'TIMER_REPORT',
-               'WINDOW_DEACTIVATE'}
+               'TIMER_REGION', 'TIMER_AUTOSAVE', 'WINDOW_DEACTIVATE', 'NONE'}
 
 
 def stop_all():
@@ -261,10 +261,11 @@ class ROADS_OT_analyze(Operator):
     def modal(self, context, event):
         try:
             if event.type == 'TIMER':
+                # Ours or another one's (an event does not say which): look, and pass it on.
                 if self._job.done():
                     return self._end_modal(context)
                 self._show_status(context)
-                return {'RUNNING_MODAL'}
+                return {'PASS_THROUGH'}
             if event.type in {'ESC', 'RIGHTMOUSE'} and event.value == 'PRESS':
                 self._job.cancel()
                 self._show_status(context)

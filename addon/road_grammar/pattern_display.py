@@ -175,7 +175,7 @@ def write(obj, slots, vertex_mask, topology):
             if len(mesh.polygons):
                 mesh.polygons.foreach_set("select", _face_mask(mesh, vertex_mask))
         mesh.update()
-    ensure_object(obj, polylines)
+    ensure_object(obj, polylines, (topology.vertex_count, len(edges)))
 
 
 def surface_polylines(graph_obj, positions, edges):
@@ -289,11 +289,12 @@ def find_modifier(obj):
                  and m.node_group.get(MARKER) is not None), None)
 
 
-def ensure_object(graph_obj, polylines=None):
+def ensure_object(graph_obj, polylines=None, counts=(0, 0)):
     """The patterns object of ``graph_obj``: made once, a child at the graph's origin in the
     graph's collections, with the Road Patterns modifier reading the graph. ``polylines``
-    (from surface_polylines) become its mesh, so the colours follow the roads' curves;
-    without them it draws the graph's straight edges."""
+    (from surface_polylines, for the graph with ``counts`` = (vertices, edges)) become its
+    mesh, so the colours follow the roads' curves; without them it draws the graph's
+    straight edges."""
     child = patterns_object(graph_obj)
     if child is None:
         name = graph_obj.name + " Patterns"
@@ -321,6 +322,8 @@ def ensure_object(graph_obj, polylines=None):
     if modifier.get(graph_input) != graph_obj:
         modifier[graph_input] = graph_obj
     modifier[modifier_input(modifier, "Follow Surface")] = polylines is not None
+    modifier[modifier_input(modifier, "Graph Vertices")] = counts[0] if polylines else 0
+    modifier[modifier_input(modifier, "Graph Edges")] = counts[1] if polylines else 0
     child.update_tag()
     return child
 
@@ -375,8 +378,9 @@ def node_group():
     polylines, each segment with its `graph_edge` and `width`) is drawn, each segment in the
     colour of its graph edge, read from the **Graph** object's mesh (Sample Index of
     `road_pattern` at `graph_edge`): so the colours follow the roads' curves and still come
-    from the graph, also in Edit Mode. Without it, the graph's own (straight) edges are
-    drawn. Every coloured edge or segment becomes one point at its middle carrying its
+    from the graph, also in Edit Mode. Without it, or when the graph no longer has the
+    **Graph Vertices** and **Graph Edges** it had when the copy was made, the graph's own
+    (straight) edges are drawn. Every coloured edge or segment becomes one point at its middle carrying its
     direction, length and width; a unit quad, raised by Height (and a little more per
     colour) and with the material of its colour, is instanced on it, turned along it and
     scaled to (length + width) x width (the extra length covers the corners)."""
@@ -388,6 +392,9 @@ def node_group():
     _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")  # the surface polylines, or nothing
     _new_socket(tree, 'INPUT', 'NodeSocketObject', "Graph")
     _new_socket(tree, 'INPUT', 'NodeSocketBool', "Follow Surface")
+    for name in ("Graph Vertices", "Graph Edges"):
+        socket = _new_socket(tree, 'INPUT', 'NodeSocketInt', name)
+        socket.default_value, socket.min_value = 0, 0
     for name, default, low, high in (("Width Scale", 1.0, 0.0, 10.0), ("Min Width", 4.0, 0.0, 1000.0),
                                      ("Height", 0.4, -1000.0, 1000.0)):
         socket = _new_socket(tree, 'INPUT', 'NodeSocketFloat', name)
@@ -412,8 +419,22 @@ def node_group():
     store.inputs["Name"].default_value = ATTRIBUTE
     links.new(group_in.outputs["Geometry"], store.inputs["Geometry"])
     links.new(_socket(sample.outputs, "Value", 'INT'), _socket(store.inputs, "Value", 'INT'))
+    # The copy fits the graph only while it has the vertex and edge counts it had when the
+    # copy was made (a grow or a topology edit changes them; the colours are then drawn
+    # straight until they are written again).
+    size = _node(nodes, 'GeometryNodeAttributeDomainSize', (-1600, 500), component='MESH')
+    links.new(graph.outputs["Geometry"], size.inputs["Geometry"])
+    follow = group_in.outputs["Follow Surface"]
+    for count, name in (("Point Count", "Graph Vertices"), ("Edge Count", "Graph Edges")):
+        same = _node(nodes, 'FunctionNodeCompare', (-1400, 500), data_type='INT', operation='EQUAL')
+        links.new(size.outputs[count], _socket(same.inputs, "A", 'INT'))
+        links.new(group_in.outputs[name], _socket(same.inputs, "B", 'INT'))
+        both = _node(nodes, 'FunctionNodeBooleanMath', (-1300, 400), operation='AND')
+        links.new(follow, both.inputs[0])
+        links.new(_socket(same.outputs, "Result"), both.inputs[1])
+        follow = both.outputs[0]
     lines = _node(nodes, 'GeometryNodeSwitch', (-1200, 200), input_type='GEOMETRY')
-    links.new(group_in.outputs["Follow Surface"], _socket(lines.inputs, "Switch", 'BOOLEAN'))
+    links.new(follow, _socket(lines.inputs, "Switch", 'BOOLEAN'))
     links.new(graph.outputs["Geometry"], _socket(lines.inputs, "False", 'GEOMETRY'))
     links.new(store.outputs["Geometry"], _socket(lines.inputs, "True", 'GEOMETRY'))
 
