@@ -55,7 +55,8 @@ def state():
     analysis = obj.road_analysis
     return {"isogroups": len(analysis.isogroups), "topology": analysis.topology,
             "stored": len(analysis["occurrences"]) if "occurrences" in analysis else 0,
-            "coloured": coloured, "selected": selected, "modifiers": [m.name for o in obj.children for m in o.modifiers],
+            "coloured": coloured, "selected": selected,
+            "modifiers": [m.name for child in obj.children for m in child.modifiers],
             "mode": obj.mode, "objects": sorted(bpy.data.objects.keys())}
 
 

@@ -105,7 +105,8 @@ def selection(obj):
 
 
 def induced_edges(obj, vertices):
-    return {i for i, (u, v) in enumerate(mesh_build.edge_vertices(obj.data).tolist()) if u in vertices and v in vertices}
+    edges = mesh_build.edge_vertices(obj.data).tolist()
+    return {i for i, (u, v) in enumerate(edges) if u in vertices and v in vertices}
 
 
 def select_only(obj, vertices):

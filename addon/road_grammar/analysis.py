@@ -113,8 +113,7 @@ def seed_problem(edges, seed):
     induced = edges[inside]
     if len(induced) == 0:
         return "No street joins the {} selected vertices: select a connected piece of the road graph".format(len(seed))
-    # Components of the induced subgraph (label propagation over its edges).
-    label = {int(v): int(v) for v in seed}
+    # A walk over the induced subgraph from one seed vertex must reach them all.
     neighbours = {int(v): [] for v in seed}
     for u, v in induced.tolist():
         neighbours[u].append(v)
@@ -127,7 +126,7 @@ def seed_problem(edges, seed):
             if w not in seen:
                 seen.add(w)
                 stack.append(w)
-    if len(seen) != len(label):
+    if len(seen) != len(seed):
         return ("The {} selected vertices are not connected by streets ({} of them are apart from the rest): "
                 "select a connected piece of the road graph".format(len(seed), len(seed) - len(seen)))
     return None
@@ -143,7 +142,8 @@ class ROADS_PG_isogroup(PropertyGroup):
     """One isogroup of an analysis: a street pattern and where it occurs."""
 
     # name (from PropertyGroup): "order k", what the list's filter matches.
-    rank: IntProperty(name="Rank", description="Place in the list: 1 = the largest gain (with a seed: the seed's own group)")
+    rank: IntProperty(name="Rank",
+                      description="Place in the list: 1 = the largest gain (with a seed: the seed's own group)")
     order: IntProperty(name="Order", description="Vertices of the pattern")
     edge_count: IntProperty(name="Edges", description="Edges of the pattern")
     frequency: IntProperty(name="Occurrences", description="Places where the pattern occurs (they may overlap)")
@@ -155,13 +155,14 @@ class ROADS_PG_isogroup(PropertyGroup):
     aspect: FloatProperty(name="Aspect", description="Aspect ratio of the pattern (1 = as wide as long)")
     leaves: IntProperty(name="Leaves", description="Pattern vertices with one street")
     irregularity_deg: FloatProperty(name="Irregularity",
-                                    description="Mean deviation of the pattern's street angles from multiples of 90 degrees")
+                                    description="Mean deviation of the pattern's street angles from multiples of "
+                                    "90 degrees")
     parent: IntProperty(name="Parent", description="Rank of the isogroup this one grew from (0: none, or not stored)")
     selection_exact: BoolProperty(name="Exact", description="The non-overlapping set is a proven maximum")
     selection_method: StringProperty(name="Method", description="How the non-overlapping set was chosen")
     color_slot: IntProperty(name="Colour Slot", description="Colour of the isogroup in the overview (0: not coloured)")
-    color: FloatVectorProperty(name="Colour", description="Colour of the isogroup in the overview", subtype='COLOR_GAMMA',
-                               size=3, get=_item_color)
+    color: FloatVectorProperty(name="Colour", description="Colour of the isogroup in the overview",
+                               subtype='COLOR_GAMMA', size=3, get=_item_color)
     occurrence_start: IntProperty(options={'HIDDEN'})
     non_overlapping_start: IntProperty(options={'HIDDEN'})
     edge_start: IntProperty(options={'HIDDEN'})
@@ -175,8 +176,8 @@ def _active_index_changed(self, context):
     obj = self.id_data
     try:
         show_isogroup(obj, self.active_index, select=True)
-    except StaleAnalysis:
-        pass
+    except (StaleAnalysis, KeyError, ValueError):
+        pass  # the panel says why (out of date); an update cannot report
 
 
 class ROADS_PG_analysis(PropertyGroup):
