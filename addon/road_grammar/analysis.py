@@ -264,60 +264,83 @@ class StaleAnalysis(Exception):
     """The object has no analysis, or its mesh changed since; the message says which."""
 
 
-def store(obj, analysis, topology, seconds, parameters, seeded, max_stored, overview_count):
-    """Write ``analysis`` (a ggg.Analysis of the graph ``topology``) into ``obj.road_analysis``,
-    keeping the best ``max_stored`` isogroups, the first ``overview_count`` of them with a
-    colour. Returns the number of isogroups kept."""
-    groups = list(analysis.isogroups[:max_stored])
-    occurrences = [np.ascontiguousarray(iso.occurrences, dtype=np.int32).ravel() for iso in groups]
-    non_overlapping = [np.ascontiguousarray(iso.non_overlapping, dtype=np.int64).astype(np.int32) for iso in groups]
-    pattern_edges = [np.ascontiguousarray(iso.pattern_edges, dtype=np.int32).ravel() for iso in groups]
-    occurrence_starts = _starts(occurrences)
-    non_overlapping_starts = _starts(non_overlapping)
-    edge_starts = _starts(pattern_edges)
-    if occurrence_starts[-1] >= 2 ** 31:
-        raise ValueError("the best {} isogroups have {:,} occurrence vertex ids, more than can be stored; keep fewer"
-                         .format(len(groups), occurrence_starts[-1]))
-    all_groups = analysis.isogroups
+class StoredAnalysis:
+    """What ``store`` writes, computed from a ggg.Analysis without touching Blender data (so
+    that a result that cannot be kept changes nothing): the best ``max_stored`` of
+    ``all_groups`` (the analysis's isogroups: the module makes that list on every access,
+    so it is read once), the first ``overview_count`` of them with a colour. Raises
+    ValueError when the occurrences are too many to store."""
 
+    def __init__(self, analysis, all_groups, max_stored, overview_count):
+        groups = all_groups[:max_stored]
+        occurrences = [np.ascontiguousarray(iso.occurrences, dtype=np.int32).ravel() for iso in groups]
+        non_overlapping = [np.ascontiguousarray(iso.non_overlapping, dtype=np.int64).astype(np.int32)
+                           for iso in groups]
+        pattern_edges = [np.ascontiguousarray(iso.pattern_edges, dtype=np.int32).ravel() for iso in groups]
+        occurrence_starts = _starts(occurrences)
+        if occurrence_starts[-1] >= 2 ** 31:
+            raise ValueError("the best {} isogroups have {:,} occurrence vertex ids, more than can be stored; keep "
+                             "fewer".format(len(groups), occurrence_starts[-1]))
+        count = len(groups)
+        parents = np.array([iso.parent for iso in groups], dtype=np.int64).reshape(-1)
+        # Numbers for foreach_set: fast even for tens of thousands of isogroups.
+        self.columns = {
+            "rank": (np.int32, np.arange(1, count + 1)),
+            "order": (np.int32, [iso.order for iso in groups]),
+            "edge_count": (np.int32, [iso.edge_count for iso in groups]),
+            "frequency": (np.int32, [iso.frequency for iso in groups]),
+            "non_overlapping_count": (np.int32, [len(chosen) for chosen in non_overlapping]),
+            "gain": (np.float32, [iso.gain for iso in groups]),
+            "score": (np.float32, [iso.score for iso in groups]),
+            "size_m": (np.float32, [iso.size_m for iso in groups]),
+            "aspect": (np.float32, [iso.aspect for iso in groups]),
+            "leaves": (np.int32, [iso.leaves for iso in groups]),
+            "irregularity_deg": (np.float32, [iso.irregularity_deg for iso in groups]),
+            # parent: an index into the analysis's isogroups, i.e. its rank - 1; 0: not kept.
+            "parent": (np.int32, np.where((parents >= 0) & (parents < count), parents + 1, 0)),
+            "selection_exact": (np.bool_, [bool(iso.selection_exact) for iso in groups]),
+            "color_slot": (np.int32, np.where(np.arange(count) < overview_count, np.arange(1, count + 1), 0)),
+            "occurrence_start": (np.int32, occurrence_starts[:-1]),
+            "non_overlapping_start": (np.int32, _starts(non_overlapping)[:-1]),
+            "edge_start": (np.int32, _starts(pattern_edges)[:-1]),
+        }
+        self.names = ["order {}".format(iso.order) for iso in groups]
+        self.methods = [iso.selection_method for iso in groups]
+        self.arrays = {OCCURRENCES: _concatenated(occurrences), NON_OVERLAPPING: _concatenated(non_overlapping),
+                       PATTERN_EDGES: _concatenated(pattern_edges)}
+        self.count = count
+        self.listed = len(all_groups)
+        self.detected = int(analysis.detected)
+        self.stopped_by_budget = bool(analysis.stopped_by_budget)
+        self.max_order = max((iso.order for iso in all_groups), default=0)
+
+
+def store(obj, stored, topology, seconds, parameters, seeded):
+    """Write ``stored`` (a StoredAnalysis of the graph ``topology``) into
+    ``obj.road_analysis``, replacing what was there. Returns the number of isogroups kept."""
     result = obj.road_analysis
     with pattern_display.suspended_updates():
         result.isogroups.clear()
         result.active_index = -1
-        for rank, iso in enumerate(groups):
-            item = result.isogroups.add()
-            item.name = "order {}".format(iso.order)
-            item.rank = rank + 1
-            item.order = iso.order
-            item.edge_count = iso.edge_count
-            item.frequency = iso.frequency
-            item.non_overlapping_count = len(non_overlapping[rank])
-            item.gain = iso.gain
-            item.score = iso.score
-            item.size_m = iso.size_m
-            item.aspect = iso.aspect
-            item.leaves = iso.leaves
-            item.irregularity_deg = iso.irregularity_deg
-            parent = iso.parent  # an index into analysis.isogroups: rank - 1
-            item.parent = parent + 1 if 0 <= parent < len(groups) else 0
-            item.selection_exact = bool(iso.selection_exact)
-            item.selection_method = iso.selection_method
-            item.color_slot = rank + 1 if rank < overview_count else 0
-            item.occurrence_start = int(occurrence_starts[rank])
-            item.non_overlapping_start = int(non_overlapping_starts[rank])
-            item.edge_start = int(edge_starts[rank])
-        result[OCCURRENCES] = _concatenated(occurrences)
-        result[NON_OVERLAPPING] = _concatenated(non_overlapping)
-        result[PATTERN_EDGES] = _concatenated(pattern_edges)
-        result.detected = int(analysis.detected)
-        result.listed = len(all_groups)
-        result.stopped_by_budget = bool(analysis.stopped_by_budget)
+        items = result.isogroups
+        for name, method in zip(stored.names, stored.methods):
+            item = items.add()
+            item.name = name
+            item.selection_method = method
+        if stored.count:
+            for name, (kind, values) in stored.columns.items():
+                items.foreach_set(name, np.asarray(values, dtype=kind).reshape(-1))
+        for key, values in stored.arrays.items():
+            result[key] = values
+        result.detected = stored.detected
+        result.listed = stored.listed
+        result.stopped_by_budget = stored.stopped_by_budget
         result.seconds = float(seconds)
-        result.max_order = max((iso.order for iso in all_groups), default=0)
+        result.max_order = stored.max_order
         result.parameters = parameters
         result.topology = topology.checksum
         result.seeded = bool(seeded)
-    return len(groups)
+    return stored.count
 
 
 def _starts(arrays):

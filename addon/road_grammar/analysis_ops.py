@@ -402,22 +402,22 @@ class ROADS_OT_analyze(Operator):
         if topology.checksum != self._topology.checksum:
             self.report({'ERROR'}, "{} changed during the analysis; analyse it again".format(name))
             return {'CANCELLED'}
+        result = job.result
+        groups = result.isogroups  # a new list on every access: read once
+        try:
+            stored = analysis.StoredAnalysis(result, groups, self.max_stored, self.overview_count)
+        except ValueError as ex:
+            self.report({'ERROR'}, "Cannot keep the analysis of {}: {}".format(name, ex))
+            return {'CANCELLED'}
         if obj.mode == 'EDIT':
             # The results live on the object: leave Edit Mode, so that they are one
             # (global) undo step with the colours.
             with context.temp_override(active_object=obj, object=obj, edit_object=obj):
                 bpy.ops.object.mode_set(mode='OBJECT')
-        result = job.result
-        try:
-            kept = analysis.store(obj, result, topology, job.seconds, self._parameters(), "seed" in self._options,
-                                  self.max_stored, self.overview_count)
-            shown = analysis.show_overview(obj, self.overview_count)
-        except (ValueError, KeyError, analysis.StaleAnalysis) as ex:
-            analysis.clear(obj)
-            self.report({'ERROR'}, "Cannot keep the analysis of {}: {}".format(name, ex))
-            return {'CANCELLED'}
-        self.report({'INFO'}, self._summary(obj, result, kept, shown, job.seconds))
-        if result.stopped_by_budget:
+        kept = analysis.store(obj, stored, topology, job.seconds, self._parameters(), "seed" in self._options)
+        shown = analysis.show_overview(obj, self.overview_count)
+        self.report({'INFO'}, self._summary(obj, result, groups, kept, shown, job.seconds))
+        if stored.stopped_by_budget:
             self.report({'WARNING'}, "The analysis of {} stopped early: the next order would hold too many "
                         "occurrences (lower Max Order or raise Min Count)".format(name))
         return {'FINISHED'}
@@ -438,8 +438,7 @@ class ROADS_OT_analyze(Operator):
             parts.append("min irregularity {:g}\u00b0".format(self.min_irregularity))
         return ", ".join(parts)
 
-    def _summary(self, obj, result, kept, shown, seconds):
-        groups = result.isogroups
+    def _summary(self, obj, result, groups, kept, shown, seconds):
         if not groups:
             return "Analysed {} in {:.2f} s: no pattern repeats ({} found before the constraints)".format(
                 obj.name, seconds, result.detected)
