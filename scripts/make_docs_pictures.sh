@@ -28,4 +28,9 @@ city_osm=()
 [ -f "$root/../shared/osm/paris_marais.osm.pbf" ] && city_osm=(--osm "$root/../shared/osm/paris_marais.osm.pbf")
 GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
   --python "$root/scripts/make_city_pictures.py" -- --out-dir "$out" "${city_osm[@]}" >/dev/null
+if [ -f "$root/scripts/render_patterns_demo.py" ]; then
+  GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
+    --python "$root/scripts/render_patterns_demo.py" -- "$out/patterns_overview.png" "$out/patterns_similar.png" \
+    >/dev/null
+fi
 echo "pictures written to $out"

@@ -29,6 +29,16 @@ else:
     from . import (native, georef, mesh_build, surface, frames, importer, preferences, grammar, graph_edit,
                    operators, grammar_ops, city, flythrough, city_ops, panels)
 
+# The graph analyzer (isogroups, find similar): its own modules, after the ones above.
+if "analysis" in locals():
+    import importlib
+
+    for _module in (pattern_display, analysis, analysis_ops, analysis_panels):  # noqa: F821
+        importlib.reload(_module)
+    del _module
+else:
+    from . import pattern_display, analysis, analysis_ops, analysis_panels
+
 import bpy
 
 classes = (
@@ -49,6 +59,17 @@ classes = (
     city_ops.ROADS_OT_flythrough,
     city_ops.ROADS_OT_render_city,
     panels.VIEW3D_PT_roads_city,
+    analysis.ROADS_PG_isogroup,
+    analysis.ROADS_PG_analysis,
+    analysis.ROADS_PG_analysis_settings,
+    analysis_ops.ROADS_OT_find_similar,
+    analysis_ops.ROADS_OT_analyze,
+    analysis_ops.ROADS_OT_select_isogroup,
+    analysis_ops.ROADS_OT_show_patterns,
+    analysis_ops.ROADS_OT_clear_patterns,
+    analysis_panels.ROADS_UL_isogroups,
+    analysis_panels.VIEW3D_PT_roads_patterns,
+    analysis_panels.VIEW3D_PT_roads_isogroups,
 )
 
 
@@ -57,12 +78,15 @@ def register():
         bpy.utils.register_class(cls)
     grammar.register()
     city_ops.register()
+    analysis.register()
     bpy.types.TOPBAR_MT_file_import.append(operators.menu_import)
 
 
 def unregister():
     bpy.types.TOPBAR_MT_file_import.remove(operators.menu_import)
     city_ops.unregister()
+    analysis_ops.stop_all()
+    analysis.unregister()
     grammar.unregister()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

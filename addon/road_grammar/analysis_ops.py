@@ -1,0 +1,550 @@
+"""Operators of the graph analyzer (paper 5, Figs. 13 and 17): find the places where a
+selected piece of the road graph occurs again, analyse a whole road graph for the street
+patterns that repeat (isogroups), and show them.
+
+Analyze runs the native analysis in a worker thread (ggg.analyze releases the GIL); the
+thread touches no Blender data: its progress callback only records the fraction and
+message and returns False once the user cancelled. From the UI the operator is modal (a
+timer shows the progress in the status bar; Esc cancels); from scripts and in background
+mode it waits for the thread, with the window manager's progress. Nothing in the scene
+changes before the analysis has finished, so a failed or cancelled run leaves it as it
+was.
+"""
+
+import threading
+import time
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
+from bpy.types import Operator
+
+import numpy as np
+
+from . import analysis, importer, native, pattern_display
+
+# Analyses running in the UI: object name -> AnalysisJob (for the panel, and so that one
+# object is not analysed twice at once).
+running = {}
+
+# Events a running modal analysis lets through to the viewport: navigation only.
+_NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'WHEELINMOUSE', 'WHEELOUTMOUSE', 'TRACKPADPAN',
+               'TRACKPADZOOM', 'MOUSEROTATE', 'MOUSEMOVE', 'INBETWEEN_MOUSEMOVE', 'NDOF_MOTION', 'TIMER_REPORT',
+               'TIMER_REGION', 'TIMER_AUTOSAVE', 'WINDOW_DEACTIVATE', 'NONE'}
+
+
+def stop_all():
+    """Cancel the analyses running in the UI and wait for their threads (the add-on is
+    being disabled)."""
+    for job in list(running.values()):
+        job.cancel()
+        job.join()
+
+
+def _plural(count, word):
+    if count == 1:
+        return "1 " + word
+    plural = word[:-len("vertex")] + "vertices" if word.endswith("vertex") else word + "s"
+    return "{:,} {}".format(count, plural)
+
+
+def analyzer_or_report(op):
+    """The module ggg with the analyzer, or None after an ERROR report."""
+    ggg = native.load_or_report(op)
+    if ggg is None:
+        return None
+    missing = [name for name in ("analyze", "find_similar", "Cancelled", "UsageError") if not hasattr(ggg, name)]
+    if missing:
+        op.report({'ERROR'}, "The native module {} has no analyzer (it lacks {}); rebuild it".format(
+            getattr(ggg, "__file__", "ggg"), ", ".join(missing)))
+        return None
+    return ggg
+
+
+def graph_or_report(op, context):
+    """The road graph object of the active object, or None after an ERROR report."""
+    obj = importer.road_graph_object(context.active_object)
+    if obj is None or obj.type != 'MESH':
+        op.report({'ERROR'}, "Select a road graph (import OpenStreetMap roads first); the active object is {}"
+                  .format("'{}', not a road graph".format(context.active_object.name)
+                          if context.active_object is not None else "none"))
+        return None
+    return obj
+
+
+# --- Find Similar ---------------------------------------------------------------------
+
+class ROADS_OT_find_similar(Operator):
+    """Find every place where the piece of road graph selected in Edit Mode occurs again: select and colour all its occurrences"""
+
+    bl_idname = "roads.find_similar"
+    bl_label = "Find Similar"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    tolerance: FloatProperty(name="Tolerance", description="Largest vertex displacement of a match, relative to the "
+                             "seed's size", default=0.15, min=0.0, soft_max=0.5, precision=3)
+    scale: EnumProperty(name="Scale", description="How the size of a match may differ from the seed's",
+                        items=analysis.SCALE_ITEMS, default='SIMILARITY')
+
+    _FROM_SETTINGS = ("tolerance", "scale")
+
+    def invoke(self, context, event):
+        settings = context.scene.road_analysis
+        for name in self._FROM_SETTINGS:
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, name))
+        return self.execute(context)
+
+    def execute(self, context):
+        obj = graph_or_report(self, context)
+        if obj is None:
+            return {'CANCELLED'}
+        ggg = analyzer_or_report(self)
+        if ggg is None:
+            return {'CANCELLED'}
+        topology = analysis.MeshTopology(obj)
+        seed = topology.selected_ids()
+        problem = analysis.seed_problem(topology.edges, seed)
+        if problem is not None:
+            self.report({'ERROR'}, problem)
+            return {'CANCELLED'}
+        with importer.Progress(context, read_share=1.0, label="Finding similar") as progress:
+            try:
+                graph = topology.graph(ggg)
+                found = ggg.find_similar(graph, seed, tolerance=self.tolerance,
+                                         scale=analysis.SCALE_NAMES[self.scale], progress=progress)
+            except ggg.Cancelled:
+                self.report({'WARNING'}, "Find Similar was cancelled; nothing changed")
+                return {'CANCELLED'}
+            except ggg.Error as ex:
+                self.report({'ERROR'}, "Cannot search {}: {}".format(obj.name, ex))
+                return {'CANCELLED'}
+            occurrences = np.asarray(found.occurrences, dtype=np.int64)
+            try:
+                lookup = pattern_display.EdgeLookup(topology.edges, topology.vertex_count)
+                edge_ids = lookup.occurrence_edges(occurrences, found.pattern_edges)
+            except KeyError as ex:
+                self.report({'ERROR'}, "Cannot show the occurrences in {}: {}".format(obj.name, ex))
+                return {'CANCELLED'}
+            slots = np.zeros(len(topology.edges), dtype=np.int32)
+            slots[edge_ids.ravel()] = pattern_display.MATCH_SLOT
+            slots[edge_ids[:1].ravel()] = pattern_display.SEED_SLOT  # occurrence 0 is the seed
+            mask = np.zeros(topology.vertex_count, dtype=bool)
+            mask[occurrences.ravel()] = True
+            pattern_display.write(obj, slots, mask, topology)
+
+        count = len(occurrences)
+        self.report({'INFO'}, "{} of the selected pattern ({}, {}): the seed and {} more, {} non-overlapping; "
+                    "{} selected".format(_plural(count, "occurrence"), _plural(found.order, "vertex"),
+                                         _plural(found.edge_count, "edge"), "{:,}".format(count - 1),
+                                         "{:,}".format(len(found.non_overlapping)),
+                                         _plural(int(mask.sum()), "vertex")))
+        return {'FINISHED'}
+
+
+# --- Analyze --------------------------------------------------------------------------
+
+class AnalysisJob:
+    """One run of ggg.analyze in a worker thread.
+
+    The thread never touches Blender data. ``__call__`` is the progress callback (called by
+    the native library, from any of its threads): it records the fraction and the message
+    and tells the library whether to go on."""
+
+    def __init__(self, ggg, graph, options):
+        self._ggg = ggg
+        self._graph = graph
+        self._options = options
+        self._cancel = threading.Event()
+        self._done = threading.Event()
+        self._thread = None
+        self.fraction = 0.0
+        self.message = "starting"
+        self.calls = 0
+        self.result = None
+        self.error = None
+        self.seconds = 0.0
+
+    def keep_going(self):
+        return not self._cancel.is_set()
+
+    def __call__(self, fraction, message):
+        self.calls += 1
+        self.fraction = min(max(float(fraction), 0.0), 1.0)
+        self.message = str(message)
+        return self.keep_going()
+
+    def _run(self):
+        started = time.perf_counter()
+        try:
+            self.result = self._ggg.analyze(self._graph, progress=self, **self._options)
+        except BaseException as ex:  # handed to the main thread, which reports it
+            self.error = ex
+        finally:
+            self.seconds = time.perf_counter() - started
+            self._graph = None
+            self._done.set()
+
+    def start(self):
+        self._thread = threading.Thread(target=self._run, name="road_grammar analyze", daemon=True)
+        self._thread.start()
+
+    def cancel(self):
+        self._cancel.set()
+
+    @property
+    def cancelled(self):
+        return self._cancel.is_set()
+
+    def done(self):
+        return self._done.is_set()
+
+    def wait(self, timeout=None):
+        return self._done.wait(timeout)
+
+    def join(self):
+        if self._thread is not None:
+            self._thread.join()
+
+
+class ROADS_OT_analyze(Operator):
+    """Find the street patterns that repeat in the active road graph (isogroups), list them best first and colour the graph by them; Esc cancels"""
+
+    bl_idname = "roads.analyze"
+    bl_label = "Analyze"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    __annotations__ = analysis.settings_properties()
+    _FROM_SETTINGS = ("angle_cells", "distance_cells", "cut", "full", "max_order", "min_count", "scale", "tolerance",
+                      "min_aspect", "min_leaves", "min_irregularity", "use_seed", "max_stored", "overview_count")
+
+    # Set up by _start; an operator instance runs one analysis.
+    _job = None
+    _timer = None
+    _object_name = ""
+    _topology = None
+    _progress_shown = False
+
+    @classmethod
+    def poll(cls, context):
+        obj = importer.road_graph_object(context.active_object)
+        return obj is None or obj.name not in running
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        row = layout.row(align=True)
+        row.prop(self, "angle_cells", text="Grid")
+        row.prop(self, "distance_cells", text="")
+        for name in ("cut", "full", "max_order", "min_count", "scale", "use_seed", "tolerance", "min_aspect",
+                     "min_leaves", "min_irregularity", "max_stored", "overview_count"):
+            layout.prop(self, name)
+
+    def invoke(self, context, event):
+        settings = context.scene.road_analysis
+        for name in self._FROM_SETTINGS:
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, name))
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        if not self._start(context):
+            return {'CANCELLED'}
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.1, window=context.window)
+        wm.modal_handler_add(self)
+        wm.progress_begin(0.0, 1.0)
+        self._progress_shown = True
+        running[self._object_name] = self._job
+        self._show_status(context)
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        try:
+            if event.type == 'TIMER':
+                # Ours or another one's (an event does not say which): look, and pass it on.
+                if self._job.done():
+                    return self._end_modal(context)
+                self._show_status(context)
+                return {'PASS_THROUGH'}
+            if event.type in {'ESC', 'RIGHTMOUSE'} and event.value == 'PRESS':
+                self._job.cancel()
+                self._show_status(context)
+                return {'RUNNING_MODAL'}
+        except Exception as ex:  # never leave a thread or a status text behind
+            self._job.cancel()
+            self._job.join()
+            self._cleanup(context)
+            self.report({'ERROR'}, "The analysis failed: {}: {}".format(type(ex).__name__, ex))
+            return {'CANCELLED'}
+        if event.type in _NAVIGATION:
+            return {'PASS_THROUGH'}
+        return {'RUNNING_MODAL'}
+
+    def cancel(self, context):
+        # Blender ends the operator (e.g. a file is loaded or Blender quits): stop the
+        # thread and wait for it, changing nothing.
+        if self._job is not None:
+            self._job.cancel()
+            self._job.join()
+        self._cleanup(context)
+
+    def execute(self, context):
+        if not self._start(context):
+            return {'CANCELLED'}
+        progress = importer.Progress(context, read_share=1.0, label="Analysing roads")
+        with progress:
+            try:
+                while not self._job.wait(0.1):
+                    progress.step(self._job.fraction, self._job.message)
+            except KeyboardInterrupt:
+                self._job.cancel()
+                self._job.join()
+            progress.step(1.0, "done")
+        return self._finish(context)
+
+    # -- steps
+
+    def _start(self, context):
+        """Read the graph (main thread) and start the worker; False after an ERROR report."""
+        obj = graph_or_report(self, context)
+        if obj is None:
+            return False
+        ggg = analyzer_or_report(self)
+        if ggg is None:
+            return False
+        if obj.name in running:
+            self.report({'ERROR'}, "{} is being analysed already".format(obj.name))
+            return False
+        topology = analysis.MeshTopology(obj)
+        options = {
+            "grid": (self.angle_cells, self.distance_cells), "cut": self.cut, "full": self.full,
+            "max_order": self.max_order, "min_count": self.min_count, "scale": analysis.SCALE_NAMES[self.scale],
+            "tolerance": self.tolerance, "min_aspect": self.min_aspect, "min_leaves": self.min_leaves,
+            "min_irregularity": self.min_irregularity,
+        }
+        if self.use_seed:
+            seed = topology.selected_ids()
+            problem = analysis.seed_problem(topology.edges, seed)
+            if problem is not None:
+                self.report({'ERROR'}, "Selection as seed: " + problem)
+                return False
+            options["seed"] = seed
+        if len(topology.edges) == 0:
+            self.report({'ERROR'}, "{} has no edges to analyse".format(obj.name))
+            return False
+        try:
+            graph = topology.graph(ggg)
+        except ggg.Error as ex:
+            self.report({'ERROR'}, "Cannot analyse {}: {}".format(obj.name, ex))
+            return False
+        self._ggg = ggg
+        self._object_name = obj.name
+        self._topology = topology
+        self._options = options
+        self._job = AnalysisJob(ggg, graph, options)
+        self._job.start()
+        return True
+
+    def _show_status(self, context):
+        job = self._job
+        wm = context.window_manager
+        wm.progress_update(job.fraction)
+        text = "Analysing {}: {} ({:.0f}%) \u2014 Esc to cancel".format(self._object_name, job.message,
+                                                                         100.0 * job.fraction)
+        if job.cancelled:
+            text = "Cancelling the analysis of {}\u2026".format(self._object_name)
+        if context.workspace is not None:
+            context.workspace.status_text_set(text)
+        for area in context.screen.areas if context.screen is not None else ():
+            if area.type == 'VIEW_3D':
+                area.tag_redraw()
+
+    def _cleanup(self, context):
+        running.pop(self._object_name, None)
+        wm = context.window_manager
+        if self._timer is not None:
+            wm.event_timer_remove(self._timer)
+            self._timer = None
+        if self._progress_shown:
+            wm.progress_end()
+            self._progress_shown = False
+        if context.workspace is not None:
+            context.workspace.status_text_set(None)
+        for area in context.screen.areas if context.screen is not None else ():
+            if area.type == 'VIEW_3D':
+                area.tag_redraw()
+
+    def _end_modal(self, context):
+        self._job.join()
+        self._cleanup(context)
+        return self._finish(context)
+
+    def _finish(self, context):
+        """Store and show the result of the finished job (main thread)."""
+        ggg, job = self._ggg, self._job
+        job.join()
+        name = self._object_name
+        if isinstance(job.error, ggg.Cancelled):
+            self.report({'WARNING'}, "The analysis of {} was cancelled; nothing changed".format(name))
+            return {'CANCELLED'}
+        if job.error is not None:
+            if isinstance(job.error, ggg.Error):
+                self.report({'ERROR'}, "Cannot analyse {}: {}".format(name, job.error))
+            else:
+                self.report({'ERROR'}, "The analysis of {} failed: {}: {}".format(
+                    name, type(job.error).__name__, job.error))
+            return {'CANCELLED'}
+        obj = bpy.data.objects.get(name)
+        if obj is None or obj.type != 'MESH':
+            self.report({'ERROR'}, "The road graph {} is gone; the analysis is not kept".format(name))
+            return {'CANCELLED'}
+        topology = analysis.MeshTopology(obj)
+        if topology.checksum != self._topology.checksum:
+            self.report({'ERROR'}, "{} changed during the analysis; analyse it again".format(name))
+            return {'CANCELLED'}
+        result = job.result
+        groups = result.isogroups  # a new list on every access: read once
+        try:
+            stored = analysis.StoredAnalysis(result, groups, self.max_stored, self.overview_count)
+        except ValueError as ex:
+            self.report({'ERROR'}, "Cannot keep the analysis of {}: {}".format(name, ex))
+            return {'CANCELLED'}
+        if obj.mode == 'EDIT':
+            # The results live on the object: leave Edit Mode, so that they are one
+            # (global) undo step with the colours.
+            with context.temp_override(active_object=obj, object=obj, edit_object=obj):
+                bpy.ops.object.mode_set(mode='OBJECT')
+        kept = analysis.store(obj, stored, topology, job.seconds, self._parameters(), "seed" in self._options)
+        shown = analysis.show_overview(obj, self.overview_count)
+        self.report({'INFO'}, self._summary(obj, result, groups, kept, shown, job.seconds))
+        if stored.stopped_by_budget:
+            self.report({'WARNING'}, "The analysis of {} stopped early: the next order would hold too many "
+                        "occurrences (lower Max Order or raise Min Count)".format(name))
+        return {'FINISHED'}
+
+    def _parameters(self):
+        parts = ["grid {}x{}".format(self.angle_cells, self.distance_cells),
+                 "full" if self.full else "cut {:g}".format(self.cut),
+                 "max order {}".format(self.max_order) if self.max_order else "no max order",
+                 "min count {}".format(self.min_count), analysis.SCALE_NAMES[self.scale]]
+        if "seed" in self._options:
+            parts.append("seed of {}, tolerance {:g}".format(_plural(len(self._options["seed"]), "vertex"),
+                                                             self.tolerance))
+        if self.min_aspect > 0:
+            parts.append("min aspect {:g}".format(self.min_aspect))
+        if self.min_leaves > 0:
+            parts.append("min leaves {}".format(self.min_leaves))
+        if self.min_irregularity > 0:
+            parts.append("min irregularity {:g}\u00b0".format(self.min_irregularity))
+        return ", ".join(parts)
+
+    def _summary(self, obj, result, groups, kept, shown, seconds):
+        if not groups:
+            return "Analysed {} in {:.2f} s: no pattern repeats ({} found before the constraints)".format(
+                obj.name, seconds, result.detected)
+        best = groups[0]
+        text = "Analysed {} in {:.2f} s: {} (best: {}, {}, {} non-overlapping)".format(
+            obj.name, seconds, _plural(len(groups), "isogroup"), _plural(best.order, "vertex"),
+            _plural(best.frequency, "occurrence"), "{:,}".format(len(best.non_overlapping)))
+        if kept < len(groups):
+            text += "; the best {:,} kept".format(kept)
+        return text + "; {} coloured".format(_plural(shown, "occurrence"))
+
+
+
+# --- showing stored results ---------------------------------------------------------------
+
+def _analysed_or_report(op, context):
+    obj = graph_or_report(op, context)
+    if obj is None:
+        return None
+    if not obj.road_analysis.has_result():
+        op.report({'ERROR'}, "{} has not been analysed: run Analyze first".format(obj.name))
+        return None
+    return obj
+
+
+class ROADS_OT_select_isogroup(Operator):
+    """Select the vertices of every occurrence of an isogroup of the last analysis and colour them"""
+
+    bl_idname = "roads.select_isogroup"
+    bl_label = "Select Occurrences"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    index: IntProperty(name="Isogroup", description="Place of the isogroup in the list, from 0 (-1: the active one)",
+                       default=-1, min=-1)
+    only_non_overlapping: BoolProperty(name="Only Non-Overlapping",
+                                       description="Only the largest set of occurrences that share no vertex",
+                                       default=False)
+
+    def execute(self, context):
+        obj = _analysed_or_report(self, context)
+        if obj is None:
+            return {'CANCELLED'}
+        result = obj.road_analysis
+        index = result.active_index if self.index < 0 else self.index
+        if not 0 <= index < len(result.isogroups):
+            self.report({'ERROR'}, "Choose an isogroup in the list first" if self.index < 0 else
+                        "{} has {}: there is no isogroup {}".format(obj.name, _plural(len(result.isogroups),
+                                                                                     "isogroup"), index))
+            return {'CANCELLED'}
+        try:
+            shown, selected = analysis.show_isogroup(obj, index, select=True,
+                                                     only_non_overlapping=self.only_non_overlapping)
+        except (analysis.StaleAnalysis, KeyError) as ex:
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        with pattern_display.suspended_updates():
+            result.active_index = index
+        item = result.isogroups[index]
+        self.report({'INFO'}, "Isogroup {} ({}, {}): {} shown, {} selected".format(
+            item.rank, _plural(item.order, "vertex"), _plural(item.edge_count, "edge"),
+            _plural(shown, "occurrence"), _plural(selected, "vertex")))
+        return {'FINISHED'}
+
+
+class ROADS_OT_show_patterns(Operator):
+    """Colour the road graph by isogroup: the non-overlapping occurrences of each of the best isogroups in its own colour"""
+
+    bl_idname = "roads.show_patterns"
+    bl_label = "Show Overview"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    count: IntProperty(name="Colours", description="Isogroups to colour, the best first",
+                       default=pattern_display.PALETTE_SIZE, min=1, max=pattern_display.PALETTE_SIZE)
+
+    def execute(self, context):
+        obj = _analysed_or_report(self, context)
+        if obj is None:
+            return {'CANCELLED'}
+        try:
+            shown = analysis.show_overview(obj, self.count)
+        except (analysis.StaleAnalysis, KeyError) as ex:
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        self.report({'INFO'}, "{}: {} coloured".format(obj.name, _plural(shown, "occurrence")))
+        return {'FINISHED'}
+
+
+class ROADS_OT_clear_patterns(Operator):
+    """Remove the pattern colours from the active road graph"""
+
+    bl_idname = "roads.clear_patterns"
+    bl_label = "Clear Colours"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    forget: BoolProperty(name="Forget Analysis", description="Also remove the stored isogroups", default=False)
+
+    def execute(self, context):
+        obj = graph_or_report(self, context)
+        if obj is None:
+            return {'CANCELLED'}
+        pattern_display.clear(obj)
+        if self.forget:
+            analysis.clear(obj)
+        else:
+            with pattern_display.suspended_updates():
+                obj.road_analysis.active_index = -1
+        self.report({'INFO'}, "Cleared the pattern colours{} of {}".format(
+            " and the analysis" if self.forget else "", obj.name))
+        return {'FINISHED'}

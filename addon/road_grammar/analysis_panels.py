@@ -1,0 +1,191 @@
+"""The Patterns panel of the Roads sidebar tab: Find Similar, Analyze with its settings,
+and the isogroups of the last analysis in a list (choosing one highlights it)."""
+
+from bpy.types import Panel, UIList
+
+from . import analysis, analysis_ops, importer
+from .analysis_ops import (ROADS_OT_analyze, ROADS_OT_clear_patterns, ROADS_OT_find_similar,
+                           ROADS_OT_select_isogroup, ROADS_OT_show_patterns)
+from .panels import _RoadsTab, _wrapped_labels
+
+# Columns of the isogroup list after the colour swatch: header and width (a fraction of
+# the rest of the row, left to right). The sidebar is narrow, so the headers are short
+# (docs/blender.md explains them): order (pattern vertices), occurrences, non-overlapping
+# occurrences, gain. The rank is the place in the list (and in the details below it).
+_COLUMNS = (("Order", 0.25), ("Occ.", 0.34), ("N-o.", 0.5), ("Gain", 1.0))
+
+
+def _compact(number):
+    """A count in at most 5 characters: 950, 9999, 12.3k, 456k, 1.2M."""
+    number = float(number)
+    if abs(number) < 10_000:
+        return "{:.0f}".format(number)
+    if abs(number) < 100_000:
+        return "{:.1f}k".format(number / 1e3)
+    if abs(number) < 1_000_000:
+        return "{:.0f}k".format(number / 1e3)
+    return "{:.1f}M".format(number / 1e6)
+
+
+def _columns(layout):
+    """Sub-layouts for the list's columns (nested splits, as UILayout.split takes one factor)."""
+    cells = []
+    rest = layout
+    for _name, factor in _COLUMNS[:-1]:
+        split = rest.split(factor=factor, align=True)
+        cells.append(split.row(align=True))
+        rest = split
+    cells.append(rest.row(align=True))
+    return cells
+
+
+class ROADS_UL_isogroups(UIList):
+    """Isogroups of an analysis, best first: colour, order, occurrences, non-overlapping
+    occurrences and gain."""
+
+    def draw_item(self, context, layout, data, item, icon, active_data, active_property, index=0, flt_flag=0):
+        if self.layout_type == 'GRID':
+            layout.alignment = 'CENTER'
+            layout.label(text=str(item.rank))
+            return
+        row = layout.row(align=True)
+        swatch = row.row(align=True)
+        swatch.ui_units_x = 0.8
+        swatch.prop(item, "color", text="")
+        order, count, non_overlapping, gain = _columns(row)
+        order.label(text=str(item.order))
+        count.label(text=_compact(item.frequency))
+        non_overlapping.label(text=_compact(item.non_overlapping_count))
+        gain.label(text=_compact(item.gain))
+
+
+def _header(layout):
+    row = layout.row(align=True)
+    spacer = row.row(align=True)
+    spacer.ui_units_x = 0.8
+    spacer.label(text="")
+    for cell, (name, _factor) in zip(_columns(row), _COLUMNS):
+        cell.label(text=name)
+
+
+class VIEW3D_PT_roads_patterns(_RoadsTab, Panel):
+    bl_label = "Patterns"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.road_analysis
+        graph = importer.road_graph_object(context.active_object)
+
+        box = layout.box()
+        box.label(text="Find Similar", icon='VIEWZOOM')
+        col = box.column(align=True)
+        col.prop(settings, "tolerance")
+        col.prop(settings, "scale", text="")
+        row = box.row()
+        row.enabled = graph is not None
+        op = row.operator(ROADS_OT_find_similar.bl_idname, icon='RESTRICT_SELECT_OFF')
+        op.tolerance, op.scale = settings.tolerance, settings.scale
+        if graph is not None and graph.mode != 'EDIT':
+            box.label(text="Select a block in Edit Mode")
+
+        box = layout.box()
+        box.label(text="Analyze {}".format(graph.name) if graph is not None else "Analyze (select a road graph)",
+                  icon='VIEWZOOM')
+        col = box.column(align=True)
+        row = col.row(align=True)
+        row.prop(settings, "angle_cells", text="Grid")
+        row.prop(settings, "distance_cells", text="")
+        col.prop(settings, "max_order")
+        col.prop(settings, "min_count")
+        row = col.row(align=True)
+        row.prop(settings, "full", toggle=True)
+        sub = row.row(align=True)
+        sub.enabled = not settings.full
+        sub.prop(settings, "cut", text="Cut")
+        col.prop(settings, "scale", text="")
+        col = box.column(align=True)
+        col.prop(settings, "use_seed")
+        col.prop(settings, "max_stored")
+        col.prop(settings, "overview_count")
+        col.prop(settings, "show_constraints", icon='TRIA_DOWN' if settings.show_constraints else 'TRIA_RIGHT',
+                 emboss=False)
+        if settings.show_constraints:
+            col.prop(settings, "min_aspect")
+            col.prop(settings, "min_leaves")
+            col.prop(settings, "min_irregularity")
+
+        job = analysis_ops.running.get(graph.name) if graph is not None else None
+        if job is not None:
+            col = box.column(align=True)
+            col.label(text="{} ({:.0f}%)".format(job.message, 100.0 * job.fraction), icon='SORTTIME')
+            col.label(text="Cancelling\u2026" if job.cancelled else "Esc cancels")
+        else:
+            row = box.row()
+            row.enabled = graph is not None
+            op = row.operator(ROADS_OT_analyze.bl_idname, icon='PLAY')
+            for name in ROADS_OT_analyze._FROM_SETTINGS:
+                setattr(op, name, getattr(settings, name))
+
+
+class VIEW3D_PT_roads_isogroups(_RoadsTab, Panel):
+    bl_label = "Isogroups"
+    bl_parent_id = "VIEW3D_PT_roads_patterns"
+
+    def draw(self, context):
+        layout = self.layout
+        graph = importer.road_graph_object(context.active_object)
+        if graph is None:
+            layout.label(text="No road graph selected")
+            return
+        result = graph.road_analysis
+        if not result.has_result():
+            layout.label(text="Not analysed yet")
+            return
+        col = layout.column(align=True)
+        col.label(text="{:,} isogroups, {:.2f} s".format(result.listed, result.seconds))
+        if len(result.isogroups) < result.listed:
+            col.label(text="The best {:,} are kept".format(len(result.isogroups)))
+        _wrapped_labels(col, result.parameters, width=28)
+        if result.stopped_by_budget:
+            col.label(text="Stopped early (budget)", icon='ERROR')
+        stale = None
+        if graph.mode != 'EDIT':  # in Edit Mode, reading the mesh on every redraw is too costly
+            try:
+                analysis.check_current(graph, topology=False)
+            except analysis.StaleAnalysis as ex:
+                stale = str(ex)
+        if stale is not None:
+            box = layout.box()
+            box.label(text="Out of date", icon='ERROR')
+            _wrapped_labels(box, stale, width=28)
+
+        _header(layout)
+        layout.template_list("ROADS_UL_isogroups", "", result, "isogroups", result, "active_index", rows=8)
+
+        index = result.active_index
+        if 0 <= index < len(result.isogroups):
+            item = result.isogroups[index]
+            box = layout.box()
+            col = box.column(align=True)
+            col.label(text="Isogroup {}".format(item.rank))
+            col.label(text="{} vertices, {} edges".format(item.order, item.edge_count))
+            col.label(text="{:,} occurrences".format(item.frequency))
+            col.label(text="{:,} non-overlapping{}".format(item.non_overlapping_count,
+                                                           " (exact)" if item.selection_exact else ""))
+            _wrapped_labels(col, "by " + item.selection_method, width=28)
+            col.label(text="Gain {:,.1f}".format(item.gain))
+            col.label(text="Score {:,.1f}".format(item.score))
+            col.label(text="Size {:.1f} m, aspect {:.2f}".format(item.size_m, item.aspect))
+            col.label(text="{} leaves, irregular {:.1f}\u00b0".format(item.leaves, item.irregularity_deg))
+            if item.parent:
+                col.label(text="Grew from isogroup {}".format(item.parent))
+            col = box.column(align=True)
+            op = col.operator(ROADS_OT_select_isogroup.bl_idname, text="Select Occurrences",
+                              icon='RESTRICT_SELECT_OFF')
+            op.index, op.only_non_overlapping = index, False
+            op = col.operator(ROADS_OT_select_isogroup.bl_idname, text="Select Non-Overlapping")
+            op.index, op.only_non_overlapping = index, True
+        row = layout.row(align=True)
+        op = row.operator(ROADS_OT_show_patterns.bl_idname, text="Overview", icon='COLOR')
+        op.count = context.scene.road_analysis.overview_count
+        row.operator(ROADS_OT_clear_patterns.bl_idname, text="Clear", icon='X')

@@ -1,0 +1,516 @@
+"""Showing street patterns on a road graph (paper Figs. 13 and 17): colours per edge and
+the selection of occurrence vertices.
+
+The colour of each graph edge is the INT edge attribute ``road_pattern`` of the graph
+mesh: 0 = none, 1..PALETTE_SIZE = the isogroup with that colour in the overview,
+MATCH_SLOT = an occurrence found by Find Similar (or an isogroup without an overview
+colour), SEED_SLOT = the seed itself.
+
+A child object of the graph, "<graph> Patterns", draws them: its Geometry Nodes modifier
+("Road Patterns") reads the graph's evaluated mesh (Object Info, so it follows Edit Mode
+too) and makes every coloured edge a flat ribbon a little above the road surfaces, as
+wide as the road (at least **Min Width**), along the road's polyline in the surface
+while that still fits the graph (else straight), with one material per colour, so the
+colours show in the Solid view (the materials' viewport colours), in Material Preview and
+in renders. Being a separate object that cannot be selected in the viewport, it gets no
+selection outline when the graph is selected, and it renders while the graph's own edges
+do not.
+
+Writing works in Object Mode (bulk foreach_set) and in Edit Mode (through bmesh, so that
+an edit-mode undo step restores it).
+"""
+
+import contextlib
+
+import bmesh
+import bpy
+import numpy as np
+
+from . import importer, mesh_build
+from .surface import _input_sockets, _new_socket
+
+ATTRIBUTE = "road_pattern"
+NODE_GROUP_NAME = "Road Patterns"
+MODIFIER_NAME = "Road Patterns"
+OBJECT_KEY = "road_patterns"  # marks the child object that draws the colours
+# A surface polyline fits its graph edge when its ends are this close to the edge's vertices.
+SURFACE_FIT_M = 0.05
+# Colours are drawn this much higher per slot, so two colours meeting at a crossing do not
+# flicker (the seed, the highest slot, is on top).
+SLOT_STEP_M = 0.004
+MATERIAL_PREFIX = "Road Pattern"
+MARKER = "road_grammar_patterns_version"
+SLOT_MARKER = "road_grammar_pattern_slot"
+NODE_GROUP_VERSION = 1
+MATERIAL_VERSION = 1
+
+# Colours (sRGB) of the isogroups in the overview, best first: saturated and of medium to
+# high lightness, so that they stand out on the dark viewport grid, on a dark ground in
+# renders and against the grey road surfaces (after Kelly's and Trubetskoy's palettes).
+PALETTE = (
+    "e6194b",  # red
+    "3cb44b",  # green
+    "ffe119",  # yellow
+    "4f8dff",  # blue
+    "f58231",  # orange
+    "b05cff",  # violet
+    "42d4f4",  # cyan
+    "f032e6",  # magenta
+    "bfef45",  # lime
+    "ff8fb1",  # pink
+    "1fc9a4",  # teal
+    "c8a2ff",  # lavender
+)
+PALETTE_SIZE = len(PALETTE)
+MATCH_SLOT = PALETTE_SIZE + 1  # occurrences of a Find Similar seed
+SEED_SLOT = PALETTE_SIZE + 2   # the seed itself
+# Match: sky blue; seed: magenta. Both differ from Edit Mode's orange selection, from each
+# other (also for red-green colour blindness) and from the grey roads.
+SLOT_COLORS = PALETTE + ("38b6ff", "ff3dcc")
+SLOT_NAMES = tuple(str(k) for k in range(1, PALETTE_SIZE + 1)) + ("Match", "Seed")
+NO_COLOR = (0.35, 0.35, 0.35)
+
+
+def _srgb(hex_color):
+    return tuple(int(hex_color[i:i + 2], 16) / 255.0 for i in (0, 2, 4))
+
+
+def _to_linear(c):
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+def slot_color_srgb(slot):
+    """The display (sRGB) colour of a colour slot; grey for 0 (no colour)."""
+    if 1 <= slot <= len(SLOT_COLORS):
+        return _srgb(SLOT_COLORS[slot - 1])
+    return NO_COLOR
+
+
+def slot_color_linear(slot):
+    return tuple(_to_linear(c) for c in slot_color_srgb(slot))
+
+
+# --- updates made by the add-on itself -------------------------------------------------
+
+_suspended = [0]
+
+
+@contextlib.contextmanager
+def suspended_updates():
+    """While the add-on sets the list's active index, its update (highlight) does not run."""
+    _suspended[0] += 1
+    try:
+        yield
+    finally:
+        _suspended[0] -= 1
+
+
+def updates_suspended():
+    return _suspended[0] > 0
+
+
+# --- from occurrences to mesh edges ------------------------------------------------------
+
+class EdgeLookup:
+    """The mesh edge joining two vertices, for many pairs at once."""
+
+    def __init__(self, edges, vertex_count):
+        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+        self._n = max(int(vertex_count), 1)
+        keys = edges.min(axis=1) * self._n + edges.max(axis=1)
+        self._order = np.argsort(keys, kind="stable")
+        self._keys = keys[self._order]
+
+    def edge_ids(self, u, v):
+        """Mesh edge of each pair (u[i], v[i]); raises KeyError when one is not an edge."""
+        u = np.asarray(u, dtype=np.int64)
+        v = np.asarray(v, dtype=np.int64)
+        keys = np.minimum(u, v) * self._n + np.maximum(u, v)
+        if len(self._keys) == 0:
+            if keys.size:
+                raise KeyError("the mesh has no edges")
+            return np.zeros(keys.shape, dtype=np.int64)
+        where = np.clip(np.searchsorted(self._keys, keys), 0, len(self._keys) - 1)
+        if not np.all(self._keys[where] == keys):
+            raise KeyError("a pattern edge is not an edge of the mesh")
+        return self._order[where]
+
+    def occurrence_edges(self, occurrences, pattern_edges):
+        """(n, e) mesh edge ids of the induced edges of each occurrence: ``occurrences``
+        (n, k) vertex ids, ``pattern_edges`` (e, 2) pattern vertex pairs."""
+        occurrences = np.asarray(occurrences, dtype=np.int64).reshape(len(occurrences), -1)
+        pattern_edges = np.asarray(pattern_edges, dtype=np.int64).reshape(-1, 2)
+        u = occurrences[:, pattern_edges[:, 0]]
+        v = occurrences[:, pattern_edges[:, 1]]
+        return self.edge_ids(u, v).reshape(len(occurrences), len(pattern_edges))
+
+
+# --- writing colours and selection --------------------------------------------------------
+
+def write(obj, slots, vertex_mask, topology):
+    """Set the colour slot of every edge of the road graph ``obj`` (``slots`` (M,)) and,
+    when ``vertex_mask`` (N,) is given, select exactly those vertices and the edges between
+    them (nothing else). ``topology`` (analysis.MeshTopology) is the graph as it is now.
+    Adds (or refreshes) the object that draws the colours."""
+    mesh = obj.data
+    slots = np.ascontiguousarray(slots, dtype=np.int32)
+    edges = np.asarray(topology.edges, dtype=np.int64).reshape(-1, 2)
+    if len(slots) != len(edges):
+        raise ValueError("{} colours for {} edges".format(len(slots), len(edges)))
+    edge_mask = None
+    if vertex_mask is not None:
+        vertex_mask = np.ascontiguousarray(vertex_mask, dtype=bool)
+        edge_mask = vertex_mask[edges[:, 0]] & vertex_mask[edges[:, 1]] if len(edges) else np.zeros(0, dtype=bool)
+    polylines = surface_polylines(obj, topology.positions, edges)
+    existing = mesh.attributes.get(ATTRIBUTE)
+    if existing is not None and (existing.domain != 'EDGE' or existing.data_type != 'INT'):
+        mesh.attributes.remove(existing)
+    if obj.mode == 'EDIT':
+        _write_edit_mesh(mesh, slots, vertex_mask, edge_mask)
+    else:
+        mesh_build.set_attribute(mesh, ATTRIBUTE, 'INT', 'EDGE', slots)
+        if vertex_mask is not None:
+            mesh.vertices.foreach_set("select", vertex_mask)
+            mesh.edges.foreach_set("select", edge_mask)
+            if len(mesh.polygons):
+                mesh.polygons.foreach_set("select", _face_mask(mesh, vertex_mask))
+        mesh.update()
+    ensure_object(obj, polylines, (topology.vertex_count, len(edges)))
+
+
+def surface_polylines(graph_obj, positions, edges):
+    """(points, segments, graph edge of each segment, width of each segment) of the road
+    surface of ``graph_obj`` when it still fits the graph (``positions``, ``edges``): every
+    edge has a polyline, from its first vertex to its second. Else None (e.g. no surface, or
+    vertices or edges edited since it was built): the colours are then drawn straight."""
+    surface_obj = importer.surface_object(graph_obj)
+    if surface_obj is None or surface_obj.type != 'MESH':
+        return None
+    mesh = surface_obj.data
+    for name, kind in ((importer.SURFACE_EDGE, 'INT'), ("width", 'FLOAT')):
+        attribute = mesh.attributes.get(name)
+        if attribute is None or attribute.domain != 'EDGE' or attribute.data_type != kind:
+            return None
+    points = mesh_build.positions_xy(mesh)
+    segments = mesh_build.edge_vertices(mesh)
+    owner = mesh_build.read_attribute(mesh, importer.SURFACE_EDGE, np.int64)
+    width = mesh_build.read_attribute(mesh, "width", np.float64)
+    edge_count = len(edges)
+    if edge_count == 0 or len(owner) == 0 or owner.min() < 0 or owner.max() >= edge_count:
+        return None
+    offsets, line_points = mesh_build.segment_polylines(points, segments, owner, edge_count)
+    if np.any(np.diff(offsets) < 2):
+        return None
+    positions = np.asarray(positions, dtype=np.float64)
+    ends_fit = (np.linalg.norm(line_points[offsets[:-1]] - positions[edges[:, 0]], axis=1) < SURFACE_FIT_M) & \
+               (np.linalg.norm(line_points[offsets[1:] - 1] - positions[edges[:, 1]], axis=1) < SURFACE_FIT_M)
+    if not np.all(ends_fit):
+        return None
+    return points, segments, owner, width
+
+
+def _face_mask(mesh, vertex_mask):
+    loops = np.empty(len(mesh.loops), dtype=np.int64)
+    mesh.loops.foreach_get("vertex_index", loops)
+    starts = np.empty(len(mesh.polygons), dtype=np.int64)
+    mesh.polygons.foreach_get("loop_start", starts)
+    return np.logical_and.reduceat(vertex_mask[loops], starts) if len(loops) else np.zeros(len(starts), dtype=bool)
+
+
+def _write_edit_mesh(mesh, slots, vertex_mask, edge_mask):
+    bm = bmesh.from_edit_mesh(mesh)
+    if len(bm.edges) != len(slots):
+        raise ValueError("the edit mesh has {} edges, not {}".format(len(bm.edges), len(slots)))
+    layer = bm.edges.layers.int.get(ATTRIBUTE) or bm.edges.layers.int.new(ATTRIBUTE)
+    for edge, slot in zip(bm.edges, slots.tolist()):
+        edge[layer] = slot
+    if vertex_mask is not None:
+        # Deselecting a face or an edge deselects its vertices too, so: everything off,
+        # then the vertices, then the edges and faces whose vertices are all on.
+        for face in bm.faces:
+            face.select = False
+        for edge in bm.edges:
+            edge.select = False
+        for vertex, selected in zip(bm.verts, vertex_mask.tolist()):
+            vertex.select = selected
+        for edge, selected in zip(bm.edges, edge_mask.tolist()):
+            if selected:
+                edge.select = True
+        bm.verts.index_update()
+        for face in bm.faces:
+            if all(vertex_mask[v.index] for v in face.verts):
+                face.select = True
+        bm.select_history.clear()
+    bmesh.update_edit_mesh(mesh, loop_triangles=False, destructive=False)
+
+
+def read_slots(obj):
+    """The colour slot of every edge of ``obj`` (zeros without the attribute); Object Mode."""
+    mesh = obj.data
+    attribute = mesh.attributes.get(ATTRIBUTE)
+    if attribute is None or attribute.domain != 'EDGE' or attribute.data_type != 'INT':
+        return np.zeros(len(mesh.edges), dtype=np.int64)
+    return mesh_build.read_attribute(mesh, ATTRIBUTE, np.int64)
+
+
+def clear(obj):
+    """Remove the colours (the attribute and the object that draws them) from the road
+    graph ``obj``."""
+    mesh = obj.data
+    if obj.mode == 'EDIT':
+        bm = bmesh.from_edit_mesh(mesh)
+        layer = bm.edges.layers.int.get(ATTRIBUTE)
+        if layer is not None:
+            bm.edges.layers.int.remove(layer)
+        bmesh.update_edit_mesh(mesh, loop_triangles=False, destructive=False)
+    else:
+        attribute = mesh.attributes.get(ATTRIBUTE)
+        if attribute is not None:
+            mesh.attributes.remove(attribute)
+        mesh.update()
+    child = patterns_object(obj)
+    if child is not None:
+        child_mesh = child.data
+        bpy.data.objects.remove(child)
+        if child_mesh is not None and child_mesh.users == 0:
+            bpy.data.meshes.remove(child_mesh)
+
+
+# --- the object, its node group and the materials -------------------------------------------
+
+def patterns_object(graph_obj):
+    """The child of ``graph_obj`` that draws its pattern colours, else None."""
+    return next((child for child in graph_obj.children if child.get(OBJECT_KEY)), None)
+
+
+def find_modifier(obj):
+    """The Road Patterns modifier of ``obj`` (a patterns object), else None."""
+    return next((m for m in obj.modifiers if m.type == 'NODES' and m.node_group is not None
+                 and m.node_group.get(MARKER) is not None), None)
+
+
+def ensure_object(graph_obj, polylines=None, counts=(0, 0)):
+    """The patterns object of ``graph_obj``: made once, a child at the graph's origin in the
+    graph's collections, with the Road Patterns modifier reading the graph. ``polylines``
+    (from surface_polylines, for the graph with ``counts`` = (vertices, edges)) become its
+    mesh, so the colours follow the roads' curves; without them it draws the graph's
+    straight edges."""
+    child = patterns_object(graph_obj)
+    if child is None:
+        name = graph_obj.name + " Patterns"
+        child = bpy.data.objects.new(name, bpy.data.meshes.new(name))
+        child[OBJECT_KEY] = 1
+        child.parent = graph_obj
+        child.hide_select = True  # clicks select the graph, and no outline covers the colours
+        collections = graph_obj.users_collection or (bpy.context.scene.collection,)
+        for collection in collections:
+            collection.objects.link(child)
+    if polylines is None:
+        child.data.clear_geometry()
+    else:
+        points, segments, owner, width = polylines
+        mesh_build.fill_edge_mesh(child.data, points, segments,
+                                  {importer.SURFACE_EDGE: ('INT', owner), "width": ('FLOAT', width)})
+    child.data.update()
+    modifier = find_modifier(child)
+    if modifier is None or modifier.node_group.get(MARKER) != NODE_GROUP_VERSION:
+        if modifier is not None:
+            child.modifiers.remove(modifier)
+        modifier = child.modifiers.new(MODIFIER_NAME, 'NODES')
+        modifier.node_group = node_group()
+    graph_input = modifier_input(modifier, "Graph")
+    if modifier.get(graph_input) != graph_obj:
+        modifier[graph_input] = graph_obj
+    modifier[modifier_input(modifier, "Follow Surface")] = polylines is not None
+    modifier[modifier_input(modifier, "Graph Vertices")] = counts[0] if polylines else 0
+    modifier[modifier_input(modifier, "Graph Edges")] = counts[1] if polylines else 0
+    child.update_tag()
+    return child
+
+
+def modifier_input(modifier, name):
+    """The identifier of the node group input ``name`` of ``modifier``."""
+    return next(socket.identifier for socket in _input_sockets(modifier.node_group) if socket.name == name)
+
+
+def material(slot):
+    """The shared material of colour slot ``slot`` ("Road Pattern 1", ..., "Road Pattern
+    Seed"): the colour, slightly emissive so that it reads in shadow and from far away."""
+    for existing in bpy.data.materials:
+        if existing.get(MARKER) == MATERIAL_VERSION and existing.get(SLOT_MARKER) == slot:
+            return existing
+    color = (*slot_color_linear(slot), 1.0)
+    mat = bpy.data.materials.new("{} {}".format(MATERIAL_PREFIX, SLOT_NAMES[slot - 1]))
+    mat[MARKER] = MATERIAL_VERSION
+    mat[SLOT_MARKER] = slot
+    mat.diffuse_color = color  # Solid view and Workbench
+    mat.use_nodes = True
+    bsdf = mat.node_tree.nodes.get("Principled BSDF")
+    bsdf.inputs["Base Color"].default_value = color
+    bsdf.inputs["Roughness"].default_value = 0.7
+    emission = bsdf.inputs.get("Emission Color") or bsdf.inputs.get("Emission")
+    if emission is not None:
+        emission.default_value = color
+    strength = bsdf.inputs.get("Emission Strength")
+    if strength is not None:
+        strength.default_value = 0.6
+    return mat
+
+
+def _node(nodes, kind, location, **settings):
+    node = nodes.new(kind)
+    node.location = location
+    for key, value in settings.items():
+        setattr(node, key, value)
+    return node
+
+
+def _socket(sockets, name, kind=None):
+    """The enabled socket ``name`` (of type ``kind``, e.g. 'INT') among ``sockets``: nodes
+    such as Compare have one socket per data type under the same name."""
+    return next(s for s in sockets if s.name == name and s.enabled and (kind is None or s.type == kind))
+
+
+def node_group():
+    """The shared "Road Patterns" node group, created on first use.
+
+    With **Follow Surface**, the object's own mesh (a copy of the road surface's
+    polylines, each segment with its `graph_edge` and `width`) is drawn, each segment in the
+    colour of its graph edge, read from the **Graph** object's mesh (Sample Index of
+    `road_pattern` at `graph_edge`): so the colours follow the roads' curves and still come
+    from the graph, also in Edit Mode. Without it, or when the graph no longer has the
+    **Graph Vertices** and **Graph Edges** it had when the copy was made, the graph's own
+    (straight) edges are drawn. Every coloured edge or segment becomes one point at its middle carrying its
+    direction, length and width; a unit quad, raised by Height (and a little more per
+    colour) and with the material of its colour, is instanced on it, turned along it and
+    scaled to (length + width) x width (the extra length covers the corners)."""
+    for group in bpy.data.node_groups:
+        if group.bl_idname == 'GeometryNodeTree' and group.get(MARKER) == NODE_GROUP_VERSION:
+            return group
+    tree = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
+    tree[MARKER] = NODE_GROUP_VERSION
+    _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")  # the surface polylines, or nothing
+    _new_socket(tree, 'INPUT', 'NodeSocketObject', "Graph")
+    _new_socket(tree, 'INPUT', 'NodeSocketBool', "Follow Surface")
+    for name in ("Graph Vertices", "Graph Edges"):
+        socket = _new_socket(tree, 'INPUT', 'NodeSocketInt', name)
+        socket.default_value, socket.min_value = 0, 0
+    for name, default, low, high in (("Width Scale", 1.0, 0.0, 10.0), ("Min Width", 4.0, 0.0, 1000.0),
+                                     ("Height", 0.4, -1000.0, 1000.0)):
+        socket = _new_socket(tree, 'INPUT', 'NodeSocketFloat', name)
+        socket.default_value, socket.min_value, socket.max_value = default, low, high
+    _new_socket(tree, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
+    nodes, links = tree.nodes, tree.links
+    group_in = _node(nodes, 'NodeGroupInput', (-2000, 0))
+    group_out = _node(nodes, 'NodeGroupOutput', (1400, 0))
+    graph = _node(nodes, 'GeometryNodeObjectInfo', (-1800, 300), transform_space='ORIGINAL')
+    links.new(group_in.outputs["Graph"], graph.inputs["Object"])
+
+    # The surface polylines with the colour of their graph edge stored on each segment.
+    pattern = _node(nodes, 'GeometryNodeInputNamedAttribute', (-1800, -300), data_type='INT')
+    pattern.inputs["Name"].default_value = ATTRIBUTE
+    owner = _node(nodes, 'GeometryNodeInputNamedAttribute', (-1800, -450), data_type='INT')
+    owner.inputs["Name"].default_value = importer.SURFACE_EDGE
+    sample = _node(nodes, 'GeometryNodeSampleIndex', (-1600, -300), data_type='INT', domain='EDGE')
+    links.new(graph.outputs["Geometry"], sample.inputs["Geometry"])
+    links.new(_socket(pattern.outputs, "Attribute"), _socket(sample.inputs, "Value", 'INT'))
+    links.new(_socket(owner.outputs, "Attribute"), sample.inputs["Index"])
+    store = _node(nodes, 'GeometryNodeStoreNamedAttribute', (-1400, 0), data_type='INT', domain='EDGE')
+    store.inputs["Name"].default_value = ATTRIBUTE
+    links.new(group_in.outputs["Geometry"], store.inputs["Geometry"])
+    links.new(_socket(sample.outputs, "Value", 'INT'), _socket(store.inputs, "Value", 'INT'))
+    # The copy fits the graph only while it has the vertex and edge counts it had when the
+    # copy was made (a grow or a topology edit changes them; the colours are then drawn
+    # straight until they are written again).
+    size = _node(nodes, 'GeometryNodeAttributeDomainSize', (-1600, 500), component='MESH')
+    links.new(graph.outputs["Geometry"], size.inputs["Geometry"])
+    follow = group_in.outputs["Follow Surface"]
+    for count, name in (("Point Count", "Graph Vertices"), ("Edge Count", "Graph Edges")):
+        same = _node(nodes, 'FunctionNodeCompare', (-1400, 500), data_type='INT', operation='EQUAL')
+        links.new(size.outputs[count], _socket(same.inputs, "A", 'INT'))
+        links.new(group_in.outputs[name], _socket(same.inputs, "B", 'INT'))
+        both = _node(nodes, 'FunctionNodeBooleanMath', (-1300, 400), operation='AND')
+        links.new(follow, both.inputs[0])
+        links.new(_socket(same.outputs, "Result"), both.inputs[1])
+        follow = both.outputs[0]
+    lines = _node(nodes, 'GeometryNodeSwitch', (-1200, 200), input_type='GEOMETRY')
+    links.new(follow, _socket(lines.inputs, "Switch", 'BOOLEAN'))
+    links.new(graph.outputs["Geometry"], _socket(lines.inputs, "False", 'GEOMETRY'))
+    links.new(store.outputs["Geometry"], _socket(lines.inputs, "True", 'GEOMETRY'))
+
+    # Coloured edges -> points with the edge's direction (captured on the edges).
+    coloured = _node(nodes, 'FunctionNodeCompare', (-1000, -300), data_type='INT', operation='GREATER_THAN')
+    links.new(_socket(pattern.outputs, "Attribute"), _socket(coloured.inputs, "A", 'INT'))
+    _socket(coloured.inputs, "B", 'INT').default_value = 0
+    edge_vertices = _node(nodes, 'GeometryNodeInputMeshEdgeVertices', (-1200, -500))
+    direction = _node(nodes, 'ShaderNodeVectorMath', (-1000, -500), operation='SUBTRACT')
+    links.new(edge_vertices.outputs["Position 2"], direction.inputs[0])
+    links.new(edge_vertices.outputs["Position 1"], direction.inputs[1])
+    capture = _node(nodes, 'GeometryNodeCaptureAttribute', (-800, 0), data_type='FLOAT_VECTOR', domain='EDGE')
+    links.new(_socket(lines.outputs, "Output", 'GEOMETRY'), capture.inputs["Geometry"])
+    links.new(direction.outputs["Vector"], _socket(capture.inputs, "Value", 'VECTOR'))
+    to_points = _node(nodes, 'GeometryNodeMeshToPoints', (-600, 0), mode='EDGES')
+    links.new(capture.outputs["Geometry"], to_points.inputs["Mesh"])
+    links.new(_socket(coloured.outputs, "Result"), to_points.inputs["Selection"])
+
+    # On the points: angle, length and width of the ribbon.
+    captured = _socket(capture.outputs, "Attribute", 'VECTOR')
+    xyz = _node(nodes, 'ShaderNodeSeparateXYZ', (-600, -300))
+    links.new(captured, xyz.inputs[0])
+    angle = _node(nodes, 'ShaderNodeMath', (-400, -300), operation='ARCTAN2')
+    links.new(xyz.outputs["Y"], angle.inputs[0])
+    links.new(xyz.outputs["X"], angle.inputs[1])
+    rotation = _node(nodes, 'ShaderNodeCombineXYZ', (-200, -300))
+    links.new(angle.outputs[0], rotation.inputs["Z"])
+    length = _node(nodes, 'ShaderNodeVectorMath', (-400, -500), operation='LENGTH')
+    links.new(captured, length.inputs[0])
+    width = _node(nodes, 'GeometryNodeInputNamedAttribute', (-600, -700), data_type='FLOAT')
+    width.inputs["Name"].default_value = "width"
+    scaled = _node(nodes, 'ShaderNodeMath', (-400, -700), operation='MULTIPLY')
+    links.new(_socket(width.outputs, "Attribute"), scaled.inputs[0])
+    links.new(group_in.outputs["Width Scale"], scaled.inputs[1])
+    ribbon_width = _node(nodes, 'ShaderNodeMath', (-200, -700), operation='MAXIMUM')
+    links.new(scaled.outputs[0], ribbon_width.inputs[0])
+    links.new(group_in.outputs["Min Width"], ribbon_width.inputs[1])
+    ribbon_length = _node(nodes, 'ShaderNodeMath', (-200, -500), operation='ADD')
+    links.new(length.outputs["Value"], ribbon_length.inputs[0])
+    links.new(ribbon_width.outputs[0], ribbon_length.inputs[1])
+    scale = _node(nodes, 'ShaderNodeCombineXYZ', (0, -500))
+    scale.inputs["Z"].default_value = 1.0
+    links.new(ribbon_length.outputs[0], scale.inputs["X"])
+    links.new(ribbon_width.outputs[0], scale.inputs["Y"])
+
+    # The unit quad.
+    quad = _node(nodes, 'GeometryNodeMeshGrid', (-600, 400))
+    quad.inputs["Size X"].default_value = 1.0
+    quad.inputs["Size Y"].default_value = 1.0
+    quad.inputs["Vertices X"].default_value = 2
+    quad.inputs["Vertices Y"].default_value = 2
+
+    # One instancing per colour, each with its material and height.
+    join = _node(nodes, 'GeometryNodeJoinGeometry', (1100, 0))
+    for slot in range(len(SLOT_COLORS), 0, -1):
+        y = 800 - 260 * slot
+        height = _node(nodes, 'ShaderNodeMath', (-200, y), operation='ADD')
+        links.new(group_in.outputs["Height"], height.inputs[0])
+        height.inputs[1].default_value = SLOT_STEP_M * slot
+        lift = _node(nodes, 'ShaderNodeCombineXYZ', (0, y))
+        links.new(height.outputs[0], lift.inputs["Z"])
+        raised = _node(nodes, 'GeometryNodeTransform', (200, y))
+        links.new(quad.outputs["Mesh"], raised.inputs["Geometry"])
+        links.new(lift.outputs[0], raised.inputs["Translation"])
+        set_material = _node(nodes, 'GeometryNodeSetMaterial', (400, y))
+        set_material.inputs["Material"].default_value = material(slot)
+        links.new(raised.outputs["Geometry"], set_material.inputs["Geometry"])
+        is_slot = _node(nodes, 'FunctionNodeCompare', (400, y - 150), data_type='INT', operation='EQUAL')
+        links.new(_socket(pattern.outputs, "Attribute"), _socket(is_slot.inputs, "A", 'INT'))
+        _socket(is_slot.inputs, "B", 'INT').default_value = slot
+        instance = _node(nodes, 'GeometryNodeInstanceOnPoints', (700, y))
+        links.new(to_points.outputs["Points"], instance.inputs["Points"])
+        links.new(_socket(is_slot.outputs, "Result"), instance.inputs["Selection"])
+        links.new(set_material.outputs["Geometry"], instance.inputs["Instance"])
+        links.new(rotation.outputs[0], instance.inputs["Rotation"])
+        links.new(scale.outputs[0], instance.inputs["Scale"])
+        links.new(instance.outputs["Instances"], join.inputs["Geometry"])
+    links.new(join.outputs["Geometry"], group_out.inputs["Geometry"])
+    return tree
