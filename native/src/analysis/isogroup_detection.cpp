@@ -505,23 +505,26 @@ double score_of(const Found& f) { return static_cast<double>(f.group.frequency()
 // Builds the children of one parent from its sorted candidates.
 std::vector<Found> children_of(const GeometricGraph& g, const Parent& parent, std::vector<Candidate>& candidates,
                                const PolarGrid& grid, const DetectionOptions& o) {
-    std::vector<Found> result;
     const Isogroup& pg = *parent.group;
     const std::size_t k = pg.order();
-    std::vector<std::uint32_t> counts(static_cast<std::size_t>(grid.size()));
-    std::vector<int> cluster;
+    // One (mask, symbol) topology per segment; segments are independent, so a parent with
+    // many occurrences (the edges, at order 3) is split over the threads too.
+    std::vector<std::pair<std::size_t, std::size_t>> segments;
     for (std::size_t a = 0; a < candidates.size();) {
-        // One (mask, symbol) topology at a time.
         std::size_t b = a + 1;
         while (b < candidates.size() && candidates[b].mask == candidates[a].mask &&
                candidates[b].symbol == candidates[a].symbol) {
             ++b;
         }
-        if (b - a < o.min_count) {
-            a = b;
-            continue;
-        }
-        std::fill(counts.begin(), counts.end(), 0);
+        if (b - a >= o.min_count) segments.emplace_back(a, b);
+        a = b;
+    }
+    std::vector<std::vector<Found>> per_segment(segments.size());
+    tbb::parallel_for(std::size_t{0}, segments.size(), [&](std::size_t si) {
+        const auto [a, b] = segments[si];
+        std::vector<Found>& result = per_segment[si];
+        std::vector<std::uint32_t> counts(static_cast<std::size_t>(grid.size()), 0);
+        std::vector<int> cluster;
         for (std::size_t c = a; c < b; ++c) ++counts[candidates[c].cell];
         const int clusters = cluster_histogram(counts, cluster, [&](int cell, auto&& f) { grid.for_each_neighbour(cell, f); });
         std::vector<std::vector<std::uint32_t>> members(static_cast<std::size_t>(clusters));
@@ -574,7 +577,10 @@ std::vector<Found> children_of(const GeometricGraph& g, const Parent& parent, st
                 result.push_back(std::move(piece));
             }
         }
-        a = b;
+    });
+    std::vector<Found> result;
+    for (auto& list : per_segment) {
+        for (Found& f : list) result.push_back(std::move(f));
     }
     return result;
 }
