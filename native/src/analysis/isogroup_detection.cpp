@@ -422,6 +422,18 @@ std::vector<Isogroup> split_by_scale(Isogroup group, const DetectionOptions& o) 
     return out;
 }
 
+// Runs body(i) for i in [0, n) in parallel, `batch` at a time, calling between(done) on the
+// calling thread after each batch: where progress is reported and a cancel can stop it, so
+// a long stage never holds a cancel for more than one batch.
+template <class Body, class Between>
+void in_batches(std::size_t n, std::size_t batch, Body&& body, Between&& between) {
+    for (std::size_t start = 0; start < n; start += batch) {
+        const std::size_t end = std::min(n, start + batch);
+        tbb::parallel_for(start, end, body);
+        between(end);
+    }
+}
+
 // A group found at the current order, with what ranking and merging need.
 struct Found {
     Isogroup group;
@@ -1011,11 +1023,14 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
             for (std::size_t s = 0; s < n; s += chunk) units.push_back({p, s, std::min(n, s + chunk)});
         }
         std::vector<std::vector<Candidate>> unit_candidates(units.size());
-        tbb::parallel_for(std::size_t{0}, units.size(), [&](std::size_t u) {
+        const double step_begin = static_cast<double>(order - 1) / static_cast<double>(last_order - 1);
+        const double step_size = 1.0 / static_cast<double>(last_order - 1);
+        in_batches(units.size(), 64, [&](std::size_t u) {
             collect_candidates(g, adjacency, parents[units[u].parent], grid, o.respect_symbols, units[u].begin,
                                units[u].end, unit_candidates[u]);
+        }, [&](std::size_t done) {
+            report(progress, step_begin + step_size * 0.3 * static_cast<double>(done) / static_cast<double>(units.size()), message);
         });
-        report(progress, (order - 1 + 0.3) / static_cast<double>(last_order - 1), message);
 
         // Gather per parent (units of a parent are consecutive and in occurrence order).
         std::vector<std::vector<Candidate>> per_parent(parents.size());
@@ -1030,7 +1045,7 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
             unit_candidates[u] = {};
         }
         std::vector<std::vector<Found>> per_parent_children(parents.size());
-        tbb::parallel_for(std::size_t{0}, parents.size(), [&](std::size_t p) {
+        in_batches(parents.size(), 16, [&](std::size_t p) {
             auto& c = per_parent[p];
             if (c.size() > 100'000) {
                 tbb::parallel_sort(c.begin(), c.end(), candidate_less);
@@ -1039,6 +1054,9 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
             }
             per_parent_children[p] = children_of(g, parents[p], c, grid, o);
             c = {};
+        }, [&](std::size_t done) {
+            report(progress, step_begin + step_size * (0.3 + 0.4 * static_cast<double>(done) / static_cast<double>(parents.size())),
+                   message);
         });
         std::vector<Found> children;
         for (auto& list : per_parent_children) {
@@ -1046,10 +1064,12 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
         }
         per_parent_children = {};
         r.children = children.size();
-        report(progress, (order - 1 + 0.7) / static_cast<double>(last_order - 1), message);
+        report(progress, step_begin + step_size * 0.7, message);
 
         tbb::parallel_for(std::size_t{0}, children.size(), [&](std::size_t i) { describe(children[i], o.respect_symbols); });
+        report(progress, step_begin + step_size * 0.75, message);
         merge_isomorphic(children, g, o);
+        report(progress, step_begin + step_size * 0.85, message);
         if (order == 2) {
             // Groups of two edges: here noise is largest relative to the pattern, and the
             // fragments it makes would cut whole lineages of larger patterns short.
@@ -1057,6 +1077,7 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
             std::erase_if(children, [](const Found& f) { return f.merged_away; });
         }
         assign_to_one_group(children, g);
+        report(progress, step_begin + step_size * 0.9, message);
         std::erase_if(children, [&](const Found& f) { return f.group.frequency() < o.min_count; });
         tbb::parallel_for(std::size_t{0}, children.size(), [&](std::size_t i) {
             if (children[i].radii.size() != children[i].group.order()) describe(children[i], o.respect_symbols);
@@ -1108,6 +1129,7 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
         for (std::size_t i = 0; i < children.size(); ++i) {
             if (expanded[i]) next_growing.push_back(children[i].group);
         }
+        report(progress, step_begin + step_size * 0.95, message);
         absorb_fragments(children, g, o, expanded);
         ++order;
         r.expanded_next = std::min(keep, children.size());
