@@ -135,7 +135,7 @@ void bind_analysis(py::module_& m) {
         [](const GeometricGraph& g, std::pair<int, int> grid, double cut, bool full, int max_order, std::size_t min_count,
            const std::string& scale, std::optional<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>> seed,
            double tolerance, double min_aspect, std::size_t min_leaves, double min_irregularity, std::size_t recount,
-           std::optional<py::function> progress) {
+           std::pair<double, double> scale_range, std::optional<py::function> progress) {
             AnalyzeOptions o;
             o.detection.angle_cells = grid.first;
             o.detection.distance_cells = grid.second;
@@ -144,6 +144,8 @@ void bind_analysis(py::module_& m) {
             o.detection.max_order = max_order;
             o.detection.min_count = min_count;
             o.detection.scale_mode = scale_mode_from_name(scale);
+            o.detection.min_scale = scale_range.first;
+            o.detection.max_scale = scale_range.second;
             if (seed) o.seed = vertex_list(*seed, g);
             o.tolerance = tolerance;
             o.recount_top = recount;
@@ -157,10 +159,12 @@ void bind_analysis(py::module_& m) {
         py::arg("graph"), py::arg("grid") = std::pair<int, int>{12, 10}, py::arg("cut") = 0.8, py::arg("full") = false,
         py::arg("max_order") = 8, py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("seed") = py::none(),
         py::arg("tolerance") = 0.2, py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
-        py::arg("min_irregularity") = 0.0, py::arg("recount") = 0, py::arg("progress") = py::none(),
+        py::arg("min_irregularity") = 0.0, py::arg("recount") = 0,
+        py::arg("scale_range") = std::pair<double, double>{0.5, 2.0}, py::arg("progress") = py::none(),
         "Find the street patterns that repeat (isogroups) and rank them by description-length gain.\n"
         "grid=(angle cells, distance cells) of the vertex expansion; cut: share of the least frequent patterns not grown\n"
         "further; full=True grows all; seed: vertex ids of a connected piece to start from (its isogroup comes first).\n"
+        "scale='range': sizes within scale_range=(min, max) of each other (a group spans at most max/min).\n"
         "min_aspect / min_leaves / min_irregularity: selection constraints. recount: the leading N isogroups are counted\n"
         "exactly (every copy within `tolerance`). progress(fraction, message) may return False\n"
         "to cancel (raises ggg.Cancelled).");
@@ -168,10 +172,12 @@ void bind_analysis(py::module_& m) {
     m.def(
         "find_similar",
         [](const GeometricGraph& g, py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> seed, double tolerance,
-           const std::string& scale, std::optional<py::function> progress) {
+           const std::string& scale, std::pair<double, double> scale_range, std::optional<py::function> progress) {
             SeedSearchOptions o;
             o.tolerance = tolerance;
             o.mode = scale_mode_from_name(scale);
+            o.min_scale = scale_range.first;
+            o.max_scale = scale_range.second;
             const std::vector<VertexId> vertices = vertex_list(seed, g);
             PythonProgress reporter(std::move(progress));
             return without_gil(reporter, [&](const ProgressCallback& cb) {
@@ -183,10 +189,11 @@ void bind_analysis(py::module_& m) {
                 return a;
             });
         },
-        py::arg("graph"), py::arg("seed"), py::arg("tolerance") = 0.15, py::arg("scale") = "similarity",
-        py::arg("progress") = py::none(),
+        py::arg("graph"), py::arg("seed"), py::arg("tolerance") = 0.2, py::arg("scale") = "similarity",
+        py::arg("scale_range") = std::pair<double, double>{0.5, 2.0}, py::arg("progress") = py::none(),
         "Every place where the piece of network induced by the `seed` vertices occurs again (the seed itself first).\n"
-        "tolerance: largest vertex displacement relative to the piece's size.");
+        "tolerance: largest vertex displacement relative to the piece's size. scale='range' accepts copies whose size\n"
+        "is within scale_range=(min, max) times the seed's.");
 }
 
 } // namespace ggg::python

@@ -75,3 +75,23 @@ def test_progress_and_cancel():
     assert seen and seen[-1] == 1.0 and seen == sorted(seen)
     with pytest.raises(ggg.Cancelled):
         ggg.analyze(g, max_order=5, progress=lambda f, m: f < 0.3)
+
+
+def test_scale_modes_and_range():
+    n = 6
+    g = grid(n)
+    seed = [0, 1, n + 1, n]
+    # Every block of the grid has the seed's size: rigid and range agree with similarity.
+    assert ggg.find_similar(g, seed, scale="rigid").frequency == (n - 1) ** 2
+    assert ggg.find_similar(g, seed, scale="range", scale_range=(0.9, 1.1)).frequency == (n - 1) ** 2
+    # Two square blocks, 100 m and 250 m, joined by a street.
+    pos = np.array([[0, 0], [100, 0], [100, 100], [0, 100],
+                    [400, 0], [650, 0], [650, 250], [400, 250]], float)
+    edges = np.array([[0, 1], [1, 2], [2, 3], [0, 3], [4, 5], [5, 6], [6, 7], [4, 7], [1, 4]])
+    two = ggg.Graph.from_arrays(pos, edges, (41.39, 2.16))
+    assert ggg.find_similar(two, [0, 1, 2, 3]).frequency == 2
+    assert ggg.find_similar(two, [0, 1, 2, 3], scale="rigid").frequency == 1
+    assert ggg.find_similar(two, [0, 1, 2, 3], scale="range", scale_range=(0.8, 1.25)).frequency == 1
+    assert ggg.find_similar(two, [0, 1, 2, 3], scale="range", scale_range=(0.5, 3.0)).frequency == 2
+    with pytest.raises(ggg.UsageError):
+        ggg.analyze(g, scale="range", scale_range=(2.0, 1.0))
