@@ -91,15 +91,17 @@ bool canonicalise(std::vector<Vec2>& positions) {
 void refine(Isogroup& group, const GeometricGraph& g, int rounds = 1) {
     const std::size_t k = group.order();
     const std::size_t n = group.frequency();
-    std::vector<Vec2> y(k);
     if (!canonicalise(group.pattern.positions)) return;
+    // The occurrences' positions, gathered once: the rounds then read them in order.
+    std::vector<Vec2> ys(n * k);
+    for (std::size_t i = 0; i < n * k; ++i) ys[i] = g.positions[static_cast<std::size_t>(group.vertices[i])];
     for (int round = 0; round <= rounds; ++round) {
         std::vector<Vec2> mean(k, Vec2::Zero());
         double scale_sum = 0.0;
         for (std::size_t i = 0; i < n; ++i) {
-            for (std::size_t j = 0; j < k; ++j) y[j] = g.positions[static_cast<std::size_t>(group.vertices[i * k + j])];
+            const Vec2* y = ys.data() + i * k;
             Similarity2& t = group.transforms[i];
-            t = fit_canonical(group.pattern.positions, y.data(), k);
+            t = fit_canonical(group.pattern.positions, y, k);
             const double s = std::sqrt(t.a * t.a + t.b * t.b);
             scale_sum += s;
             if (round == rounds || !(s > 0.0)) continue;
