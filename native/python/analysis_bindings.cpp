@@ -60,17 +60,6 @@ py::array_t<std::int32_t> edge_array(const Pattern& p) {
     return out;
 }
 
-template <class F>
-auto without_gil(PythonProgress& reporter, F&& f) {
-    try {
-        py::gil_scoped_release release;
-        return f(reporter.callback());
-    } catch (const Cancelled&) {
-        reporter.rethrow();
-        throw;
-    }
-}
-
 } // namespace
 
 void bind_analysis(py::module_& m) {
@@ -154,7 +143,7 @@ void bind_analysis(py::module_& m) {
             o.constraints.min_irregularity_deg = min_irregularity;
             check_options(o.detection);
             PythonProgress reporter(std::move(progress));
-            return without_gil(reporter, [&](const ProgressCallback& cb) { return analyze(g, o, cb); });
+            return reporter.run([&](const ProgressCallback& cb) { return analyze(g, o, cb); });
         },
         py::arg("graph"), py::arg("grid") = std::pair<int, int>{12, 10}, py::arg("cut") = 0.8, py::arg("full") = false,
         py::arg("max_order") = 8, py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("seed") = py::none(),
@@ -180,7 +169,7 @@ void bind_analysis(py::module_& m) {
             o.max_scale = scale_range.second;
             const std::vector<VertexId> vertices = vertex_list(seed, g);
             PythonProgress reporter(std::move(progress));
-            return without_gil(reporter, [&](const ProgressCallback& cb) {
+            return reporter.run([&](const ProgressCallback& cb) {
                 AnalyzedIsogroup a;
                 a.group = find_occurrences(g, vertices, o, cb);
                 std::vector<Isogroup> one{a.group};

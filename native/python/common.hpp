@@ -62,6 +62,19 @@ public:
         };
     }
 
+    // Runs f(callback) without the GIL. A cancel caused by an exception inside the Python
+    // callable re-raises that exception; a cancel by returning False raises ggg.Cancelled.
+    template <class F>
+    auto run(F&& f) {
+        try {
+            py::gil_scoped_release release;
+            return f(callback());
+        } catch (const Cancelled&) {
+            rethrow();
+            throw;
+        }
+    }
+
     void rethrow() {
         if (error_) {
             py::error_already_set e = std::move(*error_);

@@ -41,15 +41,7 @@ ggg::GeometricGraph read_graph(const std::string& path, const std::string& highw
     options.topology.keep_shape_nodes = keep_shape_nodes;
     options.topology.consolidate_m = consolidate_m;
     PythonProgress reporter(std::move(progress));
-    std::optional<ggg::GeometricGraph> graph;
-    try {
-        py::gil_scoped_release release;
-        graph = ggg::read_graph(path, options, nullptr, reporter.callback());
-    } catch (const ggg::Cancelled&) {
-        reporter.rethrow();
-        throw;
-    }
-    return std::move(*graph);
+    return reporter.run([&](const ggg::ProgressCallback& cb) { return ggg::read_graph(path, options, nullptr, cb); });
 }
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
@@ -202,14 +194,8 @@ py::tuple derive(const ggg::Grammar& grammar, std::optional<ggg::GeometricGraph>
     options.strict = strict;
     ggg::GeometricGraph graph = start ? std::move(*start) : grammar.axiom_graph();
     PythonProgress reporter(std::move(progress));
-    ggg::DeriveReport report;
-    try {
-        py::gil_scoped_release release;
-        report = ggg::derive(graph, grammar, options, reporter.callback());
-    } catch (const ggg::Cancelled&) {
-        reporter.rethrow();
-        throw;
-    }
+    const ggg::DeriveReport report =
+        reporter.run([&](const ggg::ProgressCallback& cb) { return ggg::derive(graph, grammar, options, cb); });
     py::dict r;
     r["vertices"] = graph.vertex_count();
     r["edges"] = graph.edge_count();
@@ -453,14 +439,8 @@ PYBIND11_MODULE(ggg, m) {
             options.seed = seed;
             options.threads = threads;
             PythonProgress reporter(std::move(progress));
-            ggg::CityLayout layout;
-            try {
-                py::gil_scoped_release release;
-                layout = ggg::city_layout(g, options, reporter.callback());
-            } catch (const ggg::Cancelled&) {
-                reporter.rethrow();
-                throw;
-            }
+            const ggg::CityLayout layout =
+                reporter.run([&](const ggg::ProgressCallback& cb) { return ggg::city_layout(g, options, cb); });
             py::dict d;
             auto polygons = [&d](const char* name, const ggg::PolygonSet& set, const char* owner) {
                 d[(std::string(name) + "_offsets").c_str()] = column(set.offsets);

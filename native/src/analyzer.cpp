@@ -14,6 +14,17 @@ ProgressCallback stage(const ProgressCallback& progress, double lo, double hi) {
     return [=](double f, std::string_view message) { return progress(lo + (hi - lo) * f, message); };
 }
 
+// The seed search and the recount compare sizes as the detection does.
+SeedSearchOptions search_options(const AnalyzeOptions& options) {
+    SeedSearchOptions s;
+    s.tolerance = options.tolerance;
+    s.mode = options.detection.scale_mode;
+    s.min_scale = options.detection.min_scale;
+    s.max_scale = options.detection.max_scale;
+    s.respect_symbols = options.detection.respect_symbols;
+    return s;
+}
+
 } // namespace
 
 Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const ProgressCallback& progress) {
@@ -21,13 +32,7 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
     DetectionResult detected;
     const bool seeded = !options.seed.empty();
     if (seeded) {
-        SeedSearchOptions s;
-        s.tolerance = options.tolerance;
-        s.mode = options.detection.scale_mode;
-        s.min_scale = options.detection.min_scale;
-        s.max_scale = options.detection.max_scale;
-        s.respect_symbols = options.detection.respect_symbols;
-        Isogroup seed = find_occurrences(g, options.seed, s, stage(progress, 0.0, 0.1));
+        Isogroup seed = find_occurrences(g, options.seed, search_options(options), stage(progress, 0.0, 0.1));
         detected = detect_isogroups_from(g, std::move(seed), options.detection, stage(progress, 0.1, 0.85));
     } else {
         detected = detect_isogroups(g, options.detection, stage(progress, 0.0, 0.85));
@@ -41,12 +46,7 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
     // groups are all recounted (at most eight rounds).
     std::vector<char> recounted(detected.isogroups.size(), 0);
     if (seeded && !detected.isogroups.empty()) recounted[0] = 1; // the seed search is exact already
-    SeedSearchOptions exact;
-    exact.tolerance = options.tolerance;
-    exact.mode = options.detection.scale_mode;
-    exact.min_scale = options.detection.min_scale;
-    exact.max_scale = options.detection.max_scale;
-    exact.respect_symbols = options.detection.respect_symbols;
+    const SeedSearchOptions exact = search_options(options);
     for (int round = 0; round < 8 && options.recount_top > 0; ++round) {
         report(progress, 0.9 + 0.01 * round, "counting the leading patterns exactly");
         std::vector<std::size_t> todo;

@@ -342,6 +342,26 @@ private:
     std::vector<int> twin_after_;  // the next twin, or -1
 };
 
+// Every rotation hypothesis of a non-degenerate pair: the vertex p of a farthest from its
+// centroid pins the rotation best (|z_p| >= 1); each compatible q of b at the right radius
+// gives one, the unit complex turning the direction of z_p into that of z_q.
+void search_rotations(Matcher& matcher, const Prepared& pa, const Prepared& pb, double sigma, double tau, Matcher::Best& best) {
+    int p = 0;
+    for (int i = 1; i < static_cast<int>(pa.size()); ++i) {
+        if (pa.radius[static_cast<std::size_t>(i)] > pa.radius[static_cast<std::size_t>(p)]) p = i;
+    }
+    const Complex zp = pa.z[static_cast<std::size_t>(p)];
+    const double rp = pa.radius[static_cast<std::size_t>(p)];
+    for (int q = 0; q < static_cast<int>(pb.size()) && !matcher.exhausted(); ++q) {
+        const Complex zq = pb.z[static_cast<std::size_t>(q)];
+        const double rq = pb.radius[static_cast<std::size_t>(q)];
+        if (!matcher.compatible(p, q) || std::abs(rq - sigma * rp) > tau) continue;
+        const Complex r0 = rq > 0.0 ? zq * std::conj(zp) * (1.0 / (rq * rp)) : Complex(1.0);
+        // |r0 - R| * sigma * |z_p| <= 2 tau for a passing rotation R (see collect_candidates).
+        matcher.search(r0, p, q, 2.0 * tau, best);
+    }
+}
+
 void check_options(const IsomorphismOptions& o) {
     if (!std::isfinite(o.tolerance) || o.tolerance < 0.0) {
         throw UsageError("isomorphism tolerance must be a finite number >= 0, got " + std::to_string(o.tolerance));
@@ -414,22 +434,7 @@ std::optional<IsomorphismMatch> geometrically_isomorphic(const Pattern& a, const
     if (degenerate) {
         matcher.search(1.0, -1, -1, 0.0, best);
     } else {
-        // The vertex farthest from the centroid pins the rotation best (|z_p| >= 1).
-        int p = 0;
-        for (int i = 1; i < static_cast<int>(a.size()); ++i) {
-            if (pa.radius[static_cast<std::size_t>(i)] > pa.radius[static_cast<std::size_t>(p)]) p = i;
-        }
-        const Complex zp = pa.z[static_cast<std::size_t>(p)];
-        const double rp = pa.radius[static_cast<std::size_t>(p)];
-        for (int q = 0; q < static_cast<int>(b.size()) && !matcher.exhausted(); ++q) {
-            const Complex zq = pb.z[static_cast<std::size_t>(q)];
-            const double rq = pb.radius[static_cast<std::size_t>(q)];
-            if (!matcher.compatible(p, q) || std::abs(rq - sigma * rp) > tau) continue;
-            // The unit complex turning the direction of z_p into that of z_q.
-            const Complex r0 = rq > 0.0 ? zq * std::conj(zp) * (1.0 / (rq * rp)) : Complex(1.0);
-            // |r0 - R| * sigma * |z_p| <= 2 tau for a passing rotation R (see collect_candidates).
-            matcher.search(r0, p, q, 2.0 * tau, best);
-        }
+        search_rotations(matcher, pa, pb, sigma, tau, best);
     }
     if (!best.found) return std::nullopt;
 
@@ -469,18 +474,7 @@ std::vector<IsomorphismMatch> geometric_automorphisms(const Pattern& p, const Is
     std::vector<std::pair<std::vector<int>, Complex>> all;
     Matcher::Best best;
     best.all = &all;
-    int far = 0;
-    for (int i = 1; i < static_cast<int>(p.size()); ++i) {
-        if (prepared.radius[static_cast<std::size_t>(i)] > prepared.radius[static_cast<std::size_t>(far)]) far = i;
-    }
-    const Complex zp = prepared.z[static_cast<std::size_t>(far)];
-    const double rp = prepared.radius[static_cast<std::size_t>(far)];
-    for (int q = 0; q < static_cast<int>(p.size()) && !matcher.exhausted(); ++q) {
-        const double rq = prepared.radius[static_cast<std::size_t>(q)];
-        if (!matcher.compatible(far, q) || std::abs(rq - rp) > tau) continue;
-        const Complex r0 = prepared.z[static_cast<std::size_t>(q)] * std::conj(zp) * (1.0 / (rq * rp));
-        matcher.search(r0, far, q, 2.0 * tau, best);
-    }
+    search_rotations(matcher, prepared, prepared, 1.0, tau, best);
     // Each bijection can pass under several hypotheses; keep it once, in a stable order.
     std::sort(all.begin(), all.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     all.erase(std::unique(all.begin(), all.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),

@@ -599,6 +599,49 @@ std::vector<Found> children_of(const GeometricGraph& g, const Parent& parent, st
     return result;
 }
 
+// Groups in buckets of equal invariant hash (only these can be isomorphic); inside a
+// bucket, most frequent first, then in input order. buckets are ranges of `order`.
+struct HashBuckets {
+    std::vector<std::size_t> order;
+    std::vector<std::pair<std::size_t, std::size_t>> buckets;
+};
+
+HashBuckets hash_buckets(const std::vector<Found>& found) {
+    HashBuckets hb;
+    hb.order.resize(found.size());
+    for (std::size_t i = 0; i < found.size(); ++i) hb.order[i] = i;
+    std::sort(hb.order.begin(), hb.order.end(), [&](std::size_t a, std::size_t b) {
+        if (found[a].hash != found[b].hash) return found[a].hash < found[b].hash;
+        if (found[a].group.frequency() != found[b].group.frequency()) {
+            return found[a].group.frequency() > found[b].group.frequency();
+        }
+        return a < b;
+    });
+    for (std::size_t a = 0; a < hb.order.size();) {
+        std::size_t b = a + 1;
+        while (b < hb.order.size() && found[hb.order[b]].hash == found[hb.order[a]].hash) ++b;
+        hb.buckets.emplace_back(a, b);
+        a = b;
+    }
+    return hb;
+}
+
+// Moves f's occurrences into rep (f's vertex j is rep's vertex match.mapping[j]; the
+// transforms are composed through the match) and marks f merged away.
+void fold_into(Found& rep, Found& f, const IsomorphismMatch& match) {
+    const std::size_t k = f.group.order();
+    const Similarity2 back = match.transform.inverse();
+    std::vector<VertexId> remapped(k);
+    for (std::size_t i = 0; i < f.group.frequency(); ++i) {
+        for (std::size_t j = 0; j < k; ++j) remapped[static_cast<std::size_t>(match.mapping[j])] = f.group.vertices[i * k + j];
+        rep.group.vertices.insert(rep.group.vertices.end(), remapped.begin(), remapped.end());
+        rep.group.transforms.push_back(f.group.transforms[i] * back);
+    }
+    f.merged_away = true;
+    f.group.vertices = {};
+    f.group.transforms = {};
+}
+
 // Folds groups that are geometrically isomorphic into the most frequent of them.
 void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const DetectionOptions& o) {
     IsomorphismOptions iso;
@@ -614,23 +657,9 @@ void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const 
         iso.max_scale = o.max_scale / o.min_scale;
     }
 
-    // Buckets by invariant hash; inside a bucket, most frequent first.
-    std::vector<std::size_t> order(found.size());
-    for (std::size_t i = 0; i < found.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        if (found[a].hash != found[b].hash) return found[a].hash < found[b].hash;
-        if (found[a].group.frequency() != found[b].group.frequency()) {
-            return found[a].group.frequency() > found[b].group.frequency();
-        }
-        return a < b;
-    });
-    std::vector<std::pair<std::size_t, std::size_t>> buckets;
-    for (std::size_t a = 0; a < order.size();) {
-        std::size_t b = a + 1;
-        while (b < order.size() && found[order[b]].hash == found[order[a]].hash) ++b;
-        buckets.emplace_back(a, b);
-        a = b;
-    }
+    const HashBuckets hb = hash_buckets(found);
+    const std::vector<std::size_t>& order = hb.order;
+    const auto& buckets = hb.buckets;
     const double radius_slack = 1.5 * o.merge_tolerance + 1e-9;
     tbb::parallel_for(std::size_t{0}, buckets.size(), [&](std::size_t bi) {
         const auto [a, b] = buckets[bi];
@@ -705,20 +734,7 @@ void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const 
                 if (!close) continue;
                 const auto match = geometrically_isomorphic(f.group.pattern, rep.group.pattern, iso);
                 if (!match) continue;
-                // f's vertex i is rep's vertex mapping[i].
-                const std::size_t k = f.group.order();
-                const Similarity2 back = match->transform.inverse();
-                std::vector<VertexId> remapped(k);
-                for (std::size_t i = 0; i < f.group.frequency(); ++i) {
-                    for (std::size_t j = 0; j < k; ++j) {
-                        remapped[static_cast<std::size_t>(match->mapping[j])] = f.group.vertices[i * k + j];
-                    }
-                    rep.group.vertices.insert(rep.group.vertices.end(), remapped.begin(), remapped.end());
-                    rep.group.transforms.push_back(f.group.transforms[i] * back);
-                }
-                f.merged_away = true;
-                f.group.vertices = {};
-                f.group.transforms = {};
+                fold_into(rep, f, *match);
                 if (std::find(touched.begin(), touched.end(), r) == touched.end()) touched.push_back(r);
                 merged = true;
                 break;
@@ -751,24 +767,12 @@ void absorb_fragments(std::vector<Found>& found, const GeometricGraph& g, const 
                       const std::vector<char>& keep_apart) {
     constexpr std::size_t dominant = 4;
     constexpr double ratio = 4.0;
-    std::vector<std::size_t> order(found.size());
-    for (std::size_t i = 0; i < found.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        if (found[a].hash != found[b].hash) return found[a].hash < found[b].hash;
-        if (found[a].group.frequency() != found[b].group.frequency()) {
-            return found[a].group.frequency() > found[b].group.frequency();
-        }
-        return a < b;
-    });
-    std::vector<std::pair<std::size_t, std::size_t>> buckets;
-    for (std::size_t a = 0; a < order.size();) {
-        std::size_t b = a + 1;
-        while (b < order.size() && found[order[b]].hash == found[order[a]].hash) ++b;
-        if (b - a >= 2) buckets.emplace_back(a, b);
-        a = b;
-    }
+    const HashBuckets hb = hash_buckets(found);
+    const std::vector<std::size_t>& order = hb.order;
+    const auto& buckets = hb.buckets;
     tbb::parallel_for(std::size_t{0}, buckets.size(), [&](std::size_t bi) {
         const auto [a, b] = buckets[bi];
+        if (b - a < 2) return;
         const std::size_t heads = std::min(dominant, b - a);
         std::vector<char> touched(heads, 0);
         for (std::size_t x = a + 1; x < b; ++x) {
@@ -798,18 +802,7 @@ void absorb_fragments(std::vector<Found>& found, const GeometricGraph& g, const 
                 const auto median = r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2);
                 std::nth_element(r.begin(), median, r.end());
                 if (!(*median <= reach)) continue;
-                const std::size_t k = f.group.order();
-                std::vector<VertexId> remapped(k);
-                for (std::size_t i = 0; i < f.group.frequency(); ++i) {
-                    for (std::size_t j = 0; j < k; ++j) {
-                        remapped[static_cast<std::size_t>(match->mapping[j])] = f.group.vertices[i * k + j];
-                    }
-                    rep.group.vertices.insert(rep.group.vertices.end(), remapped.begin(), remapped.end());
-                    rep.group.transforms.push_back(f.group.transforms[i] * match->transform.inverse());
-                }
-                f.merged_away = true;
-                f.group.vertices = {};
-                f.group.transforms = {};
+                fold_into(rep, f, *match);
                 touched[h] = 1;
                 break;
             }
