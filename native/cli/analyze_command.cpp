@@ -50,55 +50,64 @@ std::vector<std::int64_t> parse_ids(const std::string& text) {
 
 } // namespace
 
+void AnalysisFlags::add_to(CLI::App& c) {
+    c.add_option("--grid", grid, "Polar grid of the vertex expansion: ANGLESxDISTANCES cells")->capture_default_str();
+    c.add_option("--cut", cut, "Fraction of the least frequent patterns not grown further, once patterns are formed")
+        ->check(CLI::Range(0.0, 0.99))
+        ->capture_default_str();
+    c.add_flag("--full", full, "Grow every pattern (no frequency cut): slower, the reference for --cut");
+    c.add_option("--max-order", max_order, "Largest pattern, in vertices (0 = until nothing repeats)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
+    c.add_option("--min-count", min_count, "Fewest occurrences for a pattern to count as repeated")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    c.add_option("--tolerance", tolerance, "How far a copy may be from a pattern (seed search, exact recount), relative to its size")
+        ->check(CLI::Range(0.0, 0.99))
+        ->capture_default_str();
+    c.add_option("--scale", scale, "How sizes compare: similarity (any size), rigid (same size), range (within 2x)")
+        ->capture_default_str();
+    c.add_option("--min-aspect", min_aspect, "Only patterns whose shape is at least this square (0..1)")
+        ->check(CLI::Range(0.0, 1.0));
+    c.add_option("--min-leaves", min_leaves, "Only patterns with at least this many leaves");
+    c.add_option("--min-irregularity", min_irregularity, "Only patterns at least this irregular, in degrees (0..45)")
+        ->check(CLI::Range(0.0, 45.0));
+    c.add_option("--recount", recount, "Count the leading N patterns exactly, every copy within --tolerance (0 = off)")
+        ->capture_default_str();
+}
+
+AnalyzeOptions AnalysisFlags::options() const {
+    AnalyzeOptions options;
+    parse_grid(grid, options.detection);
+    options.detection.cut = cut;
+    options.detection.full = full;
+    options.detection.max_order = max_order;
+    options.detection.min_count = min_count;
+    options.detection.scale_mode = scale_mode_from_name(scale);
+    options.tolerance = tolerance;
+    options.recount_top = recount;
+    options.constraints.min_aspect = min_aspect;
+    options.constraints.min_leaves = min_leaves;
+    options.constraints.min_irregularity_deg = min_irregularity;
+    check_options(options.detection);
+    return options;
+}
+
 void AnalyzeCommand::add_to(CLI::App& app) {
     command_ = app.add_subcommand("analyze", "Find the street patterns that repeat (isogroups) and rank them; prints JSON");
     auto& c = *command_;
     c.add_option("INPUT", input_, "Input road graph (OSM, GeoJSON or .ggraph)")->required();
     import_.add_to(c);
-    c.add_option("--grid", grid_, "Polar grid of the vertex expansion: ANGLESxDISTANCES cells")->capture_default_str();
-    c.add_option("--cut", cut_, "Fraction of the least frequent patterns not grown further, once patterns are formed")
-        ->check(CLI::Range(0.0, 0.99))
-        ->capture_default_str();
-    c.add_flag("--full", full_, "Grow every pattern (no frequency cut): slower, the reference for --cut");
-    c.add_option("--max-order", max_order_, "Largest pattern, in vertices (0 = until nothing repeats)")
-        ->check(CLI::Range(0, 64))
-        ->capture_default_str();
-    c.add_option("--min-count", min_count_, "Fewest occurrences for a pattern to count as repeated")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
+    analysis_.add_to(c);
     c.add_option("--seed-osm-nodes", seed_osm_nodes_,
                  "Comma-separated OSM node ids: start from the subgraph they induce instead of every edge");
-    c.add_option("--tolerance", tolerance_, "How far a copy may be from a pattern (seed search, exact recount), relative to its size")
-        ->check(CLI::Range(0.0, 0.99))
-        ->capture_default_str();
-    c.add_option("--scale", scale_, "How sizes compare: similarity (any size), rigid (same size), range (within 2x)")
-        ->capture_default_str();
-    c.add_option("--min-aspect", min_aspect_, "Only patterns whose shape is at least this square (0..1)")
-        ->check(CLI::Range(0.0, 1.0));
-    c.add_option("--min-leaves", min_leaves_, "Only patterns with at least this many leaves");
-    c.add_option("--min-irregularity", min_irregularity_, "Only patterns at least this irregular, in degrees (0..45)")
-        ->check(CLI::Range(0.0, 45.0));
     c.add_option("--top", top_, "Print only the best N isogroups (0 = all)");
-    c.add_option("--recount", recount_, "Count the leading N patterns exactly, every copy within --tolerance (0 = off)")
-        ->capture_default_str();
     c.add_flag("--occurrences", occurrences_, "List the OSM node ids of every occurrence");
     c.add_flag("--stats", stats_, "Also report per-order counts and peak memory");
 }
 
 int AnalyzeCommand::run() const {
-    AnalyzeOptions options;
-    parse_grid(grid_, options.detection);
-    options.detection.cut = cut_;
-    options.detection.full = full_;
-    options.detection.max_order = max_order_;
-    options.detection.min_count = min_count_;
-    options.detection.scale_mode = scale_mode_from_name(scale_);
-    options.tolerance = tolerance_;
-    options.recount_top = recount_;
-    options.constraints.min_aspect = min_aspect_;
-    options.constraints.min_leaves = min_leaves_;
-    options.constraints.min_irregularity_deg = min_irregularity_;
-    check_options(options.detection);
+    AnalyzeOptions options = analysis_.options();
 
     const auto t0 = std::chrono::steady_clock::now();
     const GeometricGraph graph = read_graph(input_, import_.options(), nullptr, terminal_progress());

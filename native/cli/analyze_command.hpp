@@ -5,8 +5,28 @@
 #include <CLI/CLI.hpp>
 
 #include "cli_common.hpp"
+#include "ggg/analyzer.hpp"
 
 namespace ggg::cli {
+
+// The analysis options that `analyze` and `learn` share.
+struct AnalysisFlags {
+    std::string grid = "12x10";
+    double cut = 0.8;
+    bool full = false;
+    int max_order = 8;
+    std::size_t min_count = 2;
+    double tolerance = 0.2;
+    std::string scale = "similarity";
+    double min_aspect = 0.0;
+    std::size_t min_leaves = 0;
+    double min_irregularity = 0.0;
+    std::size_t recount = 0;
+
+    void add_to(CLI::App& command);
+    // Throws UsageError for a bad grid, scale or option value.
+    AnalyzeOptions options() const;
+};
 
 class AnalyzeCommand {
 public:
@@ -19,19 +39,9 @@ private:
     CLI::App* command_ = nullptr;
     std::string input_;
     ImportFlags import_;
-    std::string grid_ = "12x10";
-    double cut_ = 0.8;
-    bool full_ = false;
-    int max_order_ = 8;
-    std::size_t min_count_ = 2;
+    AnalysisFlags analysis_;
     std::string seed_osm_nodes_;
-    double tolerance_ = 0.2;
-    std::string scale_ = "similarity";
-    double min_aspect_ = 0.0;
-    std::size_t min_leaves_ = 0;
-    double min_irregularity_ = 0.0;
     std::size_t top_ = 0;
-    std::size_t recount_ = 0;
     bool occurrences_ = false;
     bool stats_ = false;
 };

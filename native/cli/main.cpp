@@ -13,6 +13,7 @@
 
 #include "analyze_command.hpp"
 #include "cli_common.hpp"
+#include "learn_command.hpp"
 #include "ggg/error.hpp"
 #include "ggg/graph_info.hpp"
 #include "ggg/io/grammar_file.hpp"
@@ -87,6 +88,10 @@ int main(int argc, char** argv) {
 
     ggg::cli::AnalyzeCommand analyze;
     analyze.add_to(app);
+    ggg::cli::LearnCommand learn;
+    learn.add_to(app);
+    ggg::cli::DecodeCommand decode;
+    decode.add_to(app);
 
     try {
         app.parse(argc, argv);
@@ -100,6 +105,8 @@ int main(int argc, char** argv) {
     }
 
     try {
+        if (learn.chosen()) return learn.run();
+        if (decode.chosen()) return decode.run();
         if (!output.empty() && ggg::graph_file_type(output) != ggg::GraphFileType::geojson &&
             ggg::graph_file_type(output) != ggg::GraphFileType::graph_file) {
             throw ggg::UsageError(output + ": unknown output type (use .geojson or .ggraph)");

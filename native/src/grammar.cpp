@@ -32,6 +32,7 @@ GeometricGraph Grammar::axiom_graph() const {
         g.symbols[static_cast<std::size_t>(id)] = v.symbol;
         g.frames[static_cast<std::size_t>(id)] = v.frame.at(v.position);
     }
+    if (!encoding.axiom_instances.empty()) g.instances = encoding.axiom_instances;
     for (const GrammarEdge& e : axiom_edges) {
         EdgeAttributes a;
         a.highway = e.highway;
@@ -42,7 +43,7 @@ GeometricGraph Grammar::axiom_graph() const {
 
 bool Grammar::operator==(const Grammar& o) const {
     return name == o.name && symbol_names == o.symbol_names && rules == o.rules && origin.lat == o.origin.lat &&
-           origin.lon == o.origin.lon && axiom_vertices == o.axiom_vertices && axiom_edges == o.axiom_edges;
+           origin.lon == o.origin.lon && axiom_vertices == o.axiom_vertices && axiom_edges == o.axiom_edges && encoding == o.encoding;
 }
 
 namespace {
@@ -72,6 +73,59 @@ void check_edges(const std::vector<GrammarEdge>& edges, std::size_t vertex_count
         }
         if (e.a == e.b) fail(at, "an edge must join two different vertices");
         if (!seen.emplace(std::min(e.a, e.b), std::max(e.a, e.b)).second) fail(at, "duplicate edge");
+    }
+}
+
+// An instance must fit its rule, and its children must be instances of the rules of the
+// nonterminals they rewrite, each used once: then the instances form a forest and a
+// derivation consumes every one of them at most once.
+void validate_encoding(const Grammar& g) {
+    const Encoding& enc = g.encoding;
+    if (enc.empty()) {
+        if (!enc.instances.empty() || !enc.axiom_instances.empty()) fail("encoding.mode", "missing (\"paper\" or \"lossless\")");
+        return;
+    }
+    if (enc.mode != "paper" && enc.mode != "lossless") fail("encoding.mode", "must be \"paper\" or \"lossless\"");
+    if (enc.levels < 0) fail("encoding.levels", "must be >= 0");
+    if (!std::isfinite(enc.tolerance_m) || enc.tolerance_m < 0) fail("encoding.tolerance_m", "must be a finite number >= 0");
+    if (!std::isfinite(enc.quantum_m) || enc.quantum_m < 0) fail("encoding.quantum_m", "must be a finite number >= 0");
+    const std::size_t n = enc.instances.size();
+    std::vector<char> used(n, 0);
+    auto claim = [&](std::int32_t instance, Symbol symbol, const std::string& where) {
+        if (instance < 0) return;
+        if (static_cast<std::size_t>(instance) >= n) fail(where, "instance " + std::to_string(instance) + " out of range");
+        if (used[static_cast<std::size_t>(instance)]++) fail(where, "instance " + std::to_string(instance) + " is used twice");
+        if (enc.instances[static_cast<std::size_t>(instance)].symbol != symbol) {
+            fail(where, "instance " + std::to_string(instance) + " belongs to another symbol");
+        }
+    };
+    if (!enc.axiom_instances.empty()) {
+        if (enc.axiom_instances.size() != g.axiom_vertices.size()) fail("encoding.axiom_instances", "needs one entry per axiom vertex");
+        for (std::size_t i = 0; i < enc.axiom_instances.size(); ++i) {
+            claim(enc.axiom_instances[i], g.axiom_vertices[i].symbol, "encoding.axiom_instances[" + std::to_string(i) + "]");
+        }
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+        const RuleInstance& inst = enc.instances[k];
+        const std::string where = "encoding.instances[" + std::to_string(k) + "]";
+        const Rule* rule = g.rule_for(inst.symbol);
+        if (!rule) fail(where + ".symbol", "no rule for symbol " + std::to_string(inst.symbol));
+        const std::size_t size = rule->vertices.size();
+        check_frame(inst.correction, where + ".correction");
+        check_finite(inst.shift, where + ".shift");
+        if (!inst.residuals.empty() && inst.residuals.size() != size) fail(where + ".residuals", "needs one entry per rule vertex");
+        for (const Vec2& r : inst.residuals) check_finite(r, where + ".residuals");
+        if (!inst.children.empty() && inst.children.size() != size) fail(where + ".children", "needs one entry per rule vertex");
+        for (std::size_t i = 0; i < inst.children.size(); ++i) {
+            claim(inst.children[i], rule->vertices[i].symbol, where + ".children[" + std::to_string(i) + "]");
+        }
+        for (const RuleInstance::Link& link : inst.embedding) {
+            if (link.vertex < 0 || static_cast<std::size_t>(link.vertex) >= size) fail(where + ".embedding", "rule vertex out of range");
+            check_finite(link.point.offset, where + ".embedding");
+        }
+        for (const auto& [edge, highway] : inst.edge_classes) {
+            if (edge < 0 || static_cast<std::size_t>(edge) >= rule->edges.size()) fail(where + ".edge_classes", "rule edge out of range");
+        }
     }
 }
 
@@ -105,6 +159,7 @@ void validate(const Grammar& g) {
         check_frame(v.frame, at + ".frame");
     }
     check_edges(g.axiom_edges, g.axiom_vertices.size(), "axiom.edges");
+    validate_encoding(g);
     if (!std::isfinite(g.origin.lat) || !std::isfinite(g.origin.lon) || std::abs(g.origin.lat) > 90 || std::abs(g.origin.lon) > 180) {
         fail("origin_latlon", "out of range");
     }

@@ -41,6 +41,7 @@ public:
             const VertexId id = next_.add_vertex(old.positions[v], old.vertex_osm_ids[v]);
             next_.symbols.back() = old.symbols[v];
             next_.frames.back() = old.frames[v];
+            instances_.push_back(old.instance_of(static_cast<VertexId>(v)));
             new_id_[v] = id;
             index(id);
         }
@@ -85,17 +86,21 @@ public:
     }
 
     // Places a vertex, merging it into one within `tolerance` when that is the same place.
-    VertexId place(const Vec2& p, Symbol symbol, const Similarity2& frame, double tolerance, bool& merged) {
+    // Two nonterminals merge only when they would rewrite identically: same symbol, frame
+    // and instance (two instances of a learned grammar never do).
+    VertexId place(const Vec2& p, Symbol symbol, const Similarity2& frame, std::int32_t instance, double tolerance, bool& merged) {
         const VertexId existing = nearest(p, tolerance, [&](VertexId v) {
             const Symbol s = next_.symbols[static_cast<std::size_t>(v)];
             if (s == 0 || symbol == 0) return true;
-            return s == symbol && same_frame(next_.frames[static_cast<std::size_t>(v)], frame, tolerance);
+            return s == symbol && instances_[static_cast<std::size_t>(v)] == instance &&
+                   same_frame(next_.frames[static_cast<std::size_t>(v)], frame, tolerance);
         });
         if (existing >= 0) {
             merged = true;
             if (symbol != 0 && next_.symbols[static_cast<std::size_t>(existing)] == 0) {
                 next_.symbols[static_cast<std::size_t>(existing)] = symbol;
                 next_.frames[static_cast<std::size_t>(existing)] = frame;
+                instances_[static_cast<std::size_t>(existing)] = instance;
             }
             return existing;
         }
@@ -103,6 +108,7 @@ public:
         const VertexId id = next_.add_vertex(p);
         next_.symbols.back() = symbol;
         next_.frames.back() = frame;
+        instances_.push_back(instance);
         index(id);
         return id;
     }
@@ -113,7 +119,10 @@ public:
         return true;
     }
 
-    GeometricGraph take() { return std::move(next_); }
+    GeometricGraph take() {
+        if (std::any_of(instances_.begin(), instances_.end(), [](std::int32_t i) { return i >= 0; })) next_.instances = std::move(instances_);
+        return std::move(next_);
+    }
     const GeometricGraph& graph() const { return next_; }
 
 private:
@@ -125,6 +134,7 @@ private:
     const GeometricGraph& old_;
     GeometricGraph next_;
     std::vector<VertexId> new_id_;
+    std::vector<std::int32_t> instances_; // per vertex of next_
     VertexId survivors_ = 0;
     bgi::rtree<Entry, bgi::rstar<16>> tree_;
     std::unordered_set<std::uint64_t> edge_keys_;
@@ -167,7 +177,7 @@ VertexId place_nonterminal(GeometricGraph& graph, Symbol symbol, const Vec2& pos
 }
 
 bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions& options, StepReport* report_out, bool* over_budget,
-                 std::vector<VertexId>* source) {
+                 std::vector<VertexId>* source, std::vector<Placement>* placed_out) {
     StepReport report;
     if (over_budget) *over_budget = false;
     const std::size_t n = g.vertex_count();
@@ -205,54 +215,93 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
     }
 
     StepBuilder builder(g, erased);
-    // Steps 1-3 for every rewrite: S in q's frame, q erased (by the builder), S placed.
-    struct Placed {
+    // What a rewrite places where: the rule, and the instance of a learned grammar if the
+    // vertex carries one (its correction applies to the vertex's frame).
+    struct Rewrite {
+        const Rule* rule = nullptr;
+        const RuleInstance* instance = nullptr;
+        std::int32_t instance_id = -1;
+        Similarity2 frame;
         std::vector<VertexId> ids;
+        std::vector<Vec2> positions;
     };
-    std::vector<Placed> placed(rewrites.size());
+    std::vector<Rewrite> placed(rewrites.size());
+    std::vector<Placement> placements;
+    // Steps 1-3 for every rewrite: S in q's frame, q erased (by the builder), S placed.
     for (std::size_t r = 0; r < rewrites.size(); ++r) {
         const auto q = static_cast<std::size_t>(rewrites[r]);
-        const Similarity2& frame = g.frames[q];
-        const Rule& rule = *grammar.rule_for(g.symbols[q]);
-        const double tolerance = world_tolerance(options, frame);
-        for (const RuleVertex& rv : rule.vertices) {
-            const Vec2 p = frame.apply(rv.position);
-            const Similarity2 child = frame * rv.transform.at(rv.position);
-            bool merged = false;
-            placed[r].ids.push_back(builder.place(p, rv.symbol, child, tolerance, merged));
-            report.merged_vertices += merged;
+        Rewrite& w = placed[r];
+        w.rule = grammar.rule_for(g.symbols[q]);
+        w.frame = g.frames[q];
+        const std::int32_t id = g.instance_of(static_cast<VertexId>(q));
+        if (id >= 0 && static_cast<std::size_t>(id) < grammar.encoding.instances.size() &&
+            grammar.encoding.instances[static_cast<std::size_t>(id)].symbol == g.symbols[q]) {
+            w.instance = &grammar.encoding.instances[static_cast<std::size_t>(id)];
+            w.instance_id = id;
+            w.frame = w.frame * w.instance->correction.at(Vec2::Zero());
+            w.frame.t += w.instance->shift;
         }
-        for (const GrammarEdge& e : rule.edges) {
+        const double tolerance = world_tolerance(options, w.frame);
+        for (std::size_t i = 0; i < w.rule->vertices.size(); ++i) {
+            const RuleVertex& rv = w.rule->vertices[i];
+            Vec2 p = w.frame.apply(rv.position);
+            if (w.instance && !w.instance->residuals.empty()) p += w.instance->residuals[i];
+            Similarity2 child = w.frame * rv.transform.at(rv.position);
+            child.t = p;
+            const std::int32_t child_instance = w.instance && !w.instance->children.empty() ? w.instance->children[i] : -1;
+            bool merged = false;
+            const VertexId v = builder.place(p, rv.symbol, child, rv.symbol ? child_instance : -1, tolerance, merged);
+            w.ids.push_back(v);
+            w.positions.push_back(p);
+            report.merged_vertices += merged;
+            if (!merged && placed_out) {
+                placements.resize(static_cast<std::size_t>(v) + 1);
+                placements[static_cast<std::size_t>(v)] = {w.instance_id, static_cast<std::int32_t>(i)};
+            }
+        }
+        for (std::size_t e = 0; e < w.rule->edges.size(); ++e) {
+            const GrammarEdge& edge = w.rule->edges[e];
             EdgeAttributes a;
-            a.highway = e.highway;
-            builder.add_edge(placed[r].ids[static_cast<std::size_t>(e.a)], placed[r].ids[static_cast<std::size_t>(e.b)], a);
+            a.highway = edge.highway;
+            if (w.instance) {
+                for (const auto& [index, highway] : w.instance->edge_classes) {
+                    if (static_cast<std::size_t>(index) == e) a.highway = highway;
+                }
+            }
+            builder.add_edge(w.ids[static_cast<std::size_t>(edge.a)], w.ids[static_cast<std::size_t>(edge.b)], a);
         }
     }
     // Step 4: embedding points connect to the nearest vertex within the tolerance that is
     // not part of the same rewrite.
-    for (std::size_t r = 0; r < rewrites.size(); ++r) {
-        const auto q = static_cast<std::size_t>(rewrites[r]);
-        const Similarity2& frame = g.frames[q];
-        const Rule& rule = *grammar.rule_for(g.symbols[q]);
-        const double tolerance = world_tolerance(options, frame);
-        const auto& own = placed[r].ids;
-        for (std::size_t i = 0; i < rule.vertices.size(); ++i) {
-            for (const EmbeddingPoint& ep : rule.vertices[i].embedding) {
-                const Vec2 target = frame.apply(rule.vertices[i].position + ep.offset);
-                const VertexId partner =
-                    builder.nearest(target, tolerance, [&](VertexId v) { return std::find(own.begin(), own.end(), v) == own.end(); });
-                if (partner < 0) {
-                    ++report.missed_embeddings;
-                    continue;
-                }
-                EdgeAttributes a;
-                a.highway = ep.highway;
-                report.embedding_edges += builder.add_edge(own[i], partner, a);
+    for (Rewrite& w : placed) {
+        const double tolerance = world_tolerance(options, w.frame);
+        const auto& own = w.ids;
+        auto connect = [&](std::size_t i, const EmbeddingPoint& ep) {
+            const Vec2 target = w.positions[i] + w.frame.apply_linear(ep.offset);
+            const VertexId partner =
+                builder.nearest(target, tolerance, [&](VertexId v) { return std::find(own.begin(), own.end(), v) == own.end(); });
+            if (partner < 0) {
+                ++report.missed_embeddings;
+                return;
+            }
+            EdgeAttributes a;
+            a.highway = ep.highway;
+            report.embedding_edges += builder.add_edge(own[i], partner, a);
+        };
+        if (w.instance) {
+            for (const RuleInstance::Link& link : w.instance->embedding) connect(static_cast<std::size_t>(link.vertex), link.point);
+        } else {
+            for (std::size_t i = 0; i < w.rule->vertices.size(); ++i) {
+                for (const EmbeddingPoint& ep : w.rule->vertices[i].embedding) connect(i, ep);
             }
         }
     }
     report.rewrites = rewrites.size();
     if (source) *source = builder.sources();
+    if (placed_out) {
+        placements.resize(builder.graph().vertex_count());
+        *placed_out = std::move(placements);
+    }
     g = builder.take();
     if (report_out) *report_out = report;
     return true;
@@ -265,7 +314,9 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
     DeriveReport result;
     result.source_vertex.resize(g.vertex_count());
     std::iota(result.source_vertex.begin(), result.source_vertex.end(), 0);
+    result.placed_by.assign(g.vertex_count(), Placement{});
     std::vector<VertexId> step_source;
+    std::vector<Placement> step_placed;
     for (int step = 0; step < options.max_steps; ++step) {
         report(progress, static_cast<double>(step) / options.max_steps, "derivation step " + std::to_string(step + 1));
         StepReport s;
@@ -275,7 +326,7 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
         const std::vector<Symbol> symbols_before = g.symbols;
         const std::vector<Similarity2> frames_before = g.frames;
         const std::vector<std::array<VertexId, 2>> edges_before = g.edges;
-        if (!derive_step(g, grammar, options, &s, &over_budget, &step_source)) {
+        if (!derive_step(g, grammar, options, &s, &over_budget, &step_source, &step_placed)) {
             result.stopped_by_budget = over_budget;
             result.nothing_to_rewrite = !over_budget;
             result.totals.refused += s.refused;
@@ -297,6 +348,10 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
             if (step_source[v] >= 0) composed[v] = result.source_vertex[static_cast<std::size_t>(step_source[v])];
         }
         result.source_vertex.swap(composed);
+        for (std::size_t v = 0; v < step_source.size(); ++v) {
+            if (step_source[v] >= 0) step_placed[v] = result.placed_by[static_cast<std::size_t>(step_source[v])];
+        }
+        result.placed_by.swap(step_placed);
         result.totals.rewrites += s.rewrites;
         result.totals.refused += s.refused;
         result.totals.embedding_edges += s.embedding_edges;

@@ -45,6 +45,9 @@ public:
     std::vector<std::int64_t> vertex_osm_ids; // 0 where the vertex is not an OSM node
     std::vector<std::uint32_t> symbols;       // 0 = terminal street vertex, k = nonterminal of rule k
     std::vector<Similarity2> frames;          // local frame of the vertex (rules, paper 3.2)
+    // Per vertex, the instance of a learned grammar (Grammar::encoding) that rewrites it, -1
+    // for none. Optional: empty means none anywhere, so graphs outside a decoding never carry it.
+    std::vector<std::int32_t> instances;
 
     // Edges.
     std::vector<std::array<VertexId, 2>> edges;
@@ -62,6 +65,9 @@ public:
     std::vector<Vec2> geometry;
 
     std::size_t vertex_count() const noexcept { return positions.size(); }
+    std::int32_t instance_of(VertexId v) const {
+        return static_cast<std::size_t>(v) < instances.size() ? instances[static_cast<std::size_t>(v)] : -1;
+    }
     std::size_t edge_count() const noexcept { return edges.size(); }
 
     VertexId add_vertex(const Vec2& position, std::int64_t osm_id = 0);

@@ -9,6 +9,7 @@
 // grammar file, so that a file reads back to exactly the grammar that wrote it.
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ggg/geometric_graph.hpp"
@@ -63,6 +64,49 @@ struct AxiomVertex {
     bool operator==(const AxiomVertex&) const = default;
 };
 
+// One use of a rule in a learned grammar: an occurrence the encoder replaced by a
+// nonterminal (paper 6). The rule holds what its occurrences share; an instance holds what
+// is its own, so that the derivation puts its streets back where they were: how its frame
+// differs from the one its parent hands down, its own embedding (which streets around it
+// it joins), and in lossless mode the residual of every vertex.
+struct RuleInstance {
+    struct Link {
+        std::int32_t vertex = 0; // rule vertex the embedding edge starts from
+        EmbeddingPoint point;    // offset from that vertex, in the instance's frame
+        bool operator==(const Link&) const = default;
+    };
+
+    Symbol symbol = 0;
+    // Rotation and scale on top of the frame the nonterminal vertex carries (its parent's
+    // frame and the rule's transform T_i), then a shift of the frame's origin in metres:
+    // together they put the rule where this occurrence was, whatever its parent's shape did.
+    Frame correction;
+    Vec2 shift = Vec2::Zero();
+    // Per rule vertex, metres added to its placed position (lossless mode); empty = none.
+    std::vector<Vec2> residuals;
+    // Per rule vertex, the instance rewriting the nonterminal placed there (-1: the rule
+    // alone); empty = none.
+    std::vector<std::int32_t> children;
+    // Replaces the rule's embedding for this instance.
+    std::vector<Link> embedding;
+    // Rule edges whose road class differs in this instance: (edge index, class).
+    std::vector<std::pair<std::int32_t, HighwayClass>> edge_classes;
+    bool operator==(const RuleInstance&) const = default;
+};
+
+// What a learned grammar keeps besides its rules and axiom: the instances and how to
+// decode them. Empty (mode "") for a hand-written grammar.
+struct Encoding {
+    std::string mode;         // "paper" (rule geometry only) or "lossless" (with residuals)
+    int levels = 0;           // derivation steps that decode the axiom completely
+    double tolerance_m = 0.0; // decoding tolerance (absolute metres)
+    double quantum_m = 0.0;   // residuals are multiples of this (lossless mode)
+    std::vector<RuleInstance> instances;
+    std::vector<std::int32_t> axiom_instances; // per axiom vertex, -1 = none; empty = none
+    bool empty() const { return mode.empty(); }
+    bool operator==(const Encoding&) const = default;
+};
+
 struct Grammar {
     std::string name;
     std::vector<std::string> symbol_names; // symbol k is symbol_names[k - 1]
@@ -70,12 +114,14 @@ struct Grammar {
     GeoOrigin origin;                      // where the axiom sits on the earth (0, 0 = abstract)
     std::vector<AxiomVertex> axiom_vertices;
     std::vector<GrammarEdge> axiom_edges;
+    Encoding encoding; // learned grammars only
 
     // The rule rewriting `symbol`, or nullptr when the symbol has none.
     const Rule* rule_for(Symbol symbol) const;
     // Name of a symbol ("terminal" for 0).
     std::string symbol_name(Symbol symbol) const;
-    // The axiom as a graph: nonterminal vertices carry their frames.
+    // The axiom as a graph: nonterminal vertices carry their frames (and, for a learned
+    // grammar, their instances).
     GeometricGraph axiom_graph() const;
 
     bool operator==(const Grammar& other) const;

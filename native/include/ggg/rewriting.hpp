@@ -40,6 +40,14 @@ struct StepReport {
     std::size_t merged_vertices = 0;   // placed vertices that landed on existing ones
 };
 
+// Which rewrite placed a vertex: the instance of a learned grammar (-1: a rule used without
+// one) and the index of the rule vertex it is. {-1, -1} for a vertex that was there before.
+struct Placement {
+    std::int32_t instance = -1;
+    std::int32_t rule_vertex = -1;
+    bool operator==(const Placement&) const = default;
+};
+
 struct DeriveReport {
     int steps = 0;                  // steps applied
     bool stopped_by_budget = false; // a step was not applied because it would pass max_vertices
@@ -49,14 +57,22 @@ struct DeriveReport {
     // For each vertex of the result, the vertex of the input graph it is (-1 for a vertex a
     // rule placed), so callers can carry their own per-vertex data across a derivation.
     std::vector<VertexId> source_vertex;
+    // For each vertex of the result, the rewrite that placed it (see Placement).
+    std::vector<Placement> placed_by;
 };
 
 // One step on `graph` in place. Returns false and leaves the graph unchanged when the
 // step would pass `options.max_vertices` (or nothing can be rewritten).
 // `source`, when given, receives for each vertex of the new graph the vertex of the old one
-// it is, or -1 for a placed vertex.
+// it is, or -1 for a placed vertex; `placed`, the rewrite that placed it.
+//
+// A nonterminal vertex that carries an instance of a learned grammar (graph.instances) is
+// rewritten with that instance's frame correction, residuals, embedding and road classes,
+// and the nonterminals it places carry the instance's children: that is how a learned
+// grammar decodes back to the streets it came from, by the same rewriting as any other.
 bool derive_step(GeometricGraph& graph, const Grammar& grammar, const DeriveOptions& options, StepReport* report = nullptr,
-                 bool* over_budget = nullptr, std::vector<VertexId>* source = nullptr);
+                 bool* over_budget = nullptr, std::vector<VertexId>* source = nullptr,
+                 std::vector<Placement>* placed = nullptr);
 
 // Up to options.max_steps steps from `graph` (the axiom, or a road network to grow).
 DeriveReport derive(GeometricGraph& graph, const Grammar& grammar, const DeriveOptions& options,

@@ -1,5 +1,6 @@
 #include "ggg/io/grammar_file.hpp"
 
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -20,10 +21,66 @@ namespace {
 json point(const Vec2& p) { return json::array({p.x(), p.y()}); }
 json frame(const Frame& f) { return {{"scale", f.scale}, {"rotation_deg", f.rotation_deg}}; }
 
+// Members at their default value (a terminal, the identity frame, no embedding, a
+// residential street) are left out: the reader supplies them, and a learned grammar has
+// thousands of vertices where they would only repeat the default.
 json edges_json(const std::vector<GrammarEdge>& edges) {
     json out = json::array();
-    for (const auto& e : edges) out.push_back(json::array({e.a, e.b, std::string(highway_name(e.highway))}));
+    for (const auto& e : edges) {
+        if (e.highway == GrammarEdge{}.highway) out.push_back(json::array({e.a, e.b}));
+        else out.push_back(json::array({e.a, e.b, std::string(highway_name(e.highway))}));
+    }
     return out;
+}
+
+json encoding_json(const Encoding& enc) {
+    json symbol = json::array(), scale = json::array(), rotation = json::array(), shift = json::array(), residuals = json::array(),
+         children = json::array(), embedding = json::array(), classes = json::array();
+    for (const RuleInstance& inst : enc.instances) {
+        symbol.push_back(inst.symbol);
+        scale.push_back(inst.correction.scale);
+        rotation.push_back(inst.correction.rotation_deg);
+        shift.push_back(inst.shift.x());
+        shift.push_back(inst.shift.y());
+        json r = json::array();
+        for (const Vec2& v : inst.residuals) {
+            r.push_back(v.x());
+            r.push_back(v.y());
+        }
+        residuals.push_back(std::move(r));
+        children.push_back(inst.children);
+        json links = json::array();
+        for (const RuleInstance::Link& l : inst.embedding) {
+            links.push_back(l.vertex);
+            links.push_back(l.point.offset.x());
+            links.push_back(l.point.offset.y());
+            links.push_back(static_cast<int>(l.point.highway));
+        }
+        embedding.push_back(std::move(links));
+        json ec = json::array();
+        for (const auto& [edge, highway] : inst.edge_classes) {
+            ec.push_back(edge);
+            ec.push_back(static_cast<int>(highway));
+        }
+        classes.push_back(std::move(ec));
+    }
+    json class_names = json::array();
+    for (int c = 0; c < highway_class_count; ++c) class_names.push_back(highway_name(static_cast<HighwayClass>(c)));
+    return {{"mode", enc.mode},
+            {"levels", enc.levels},
+            {"tolerance_m", enc.tolerance_m},
+            {"quantum_m", enc.quantum_m},
+            {"highway_classes", std::move(class_names)},
+            {"axiom_instances", enc.axiom_instances},
+            {"instances",
+             {{"symbol", std::move(symbol)},
+              {"scale", std::move(scale)},
+              {"rotation_deg", std::move(rotation)},
+              {"shift", std::move(shift)},
+              {"residuals", std::move(residuals)},
+              {"children", std::move(children)},
+              {"embedding", std::move(embedding)},
+              {"edge_classes", std::move(classes)}}}};
 }
 
 } // namespace
@@ -34,27 +91,51 @@ json grammar_to_json(const Grammar& g) {
         json vertices = json::array();
         for (const RuleVertex& v : r.vertices) {
             json embedding = json::array();
-            for (const auto& ep : v.embedding) embedding.push_back({{"offset", point(ep.offset)}, {"highway", std::string(highway_name(ep.highway))}});
-            vertices.push_back({{"position", point(v.position)},
-                                {"symbol", v.symbol ? g.symbol_name(v.symbol) : ""},
-                                {"transform", frame(v.transform)},
-                                {"embedding", std::move(embedding)}});
+            for (const auto& ep : v.embedding) embedding.push_back({ep.offset.x(), ep.offset.y(), std::string(highway_name(ep.highway))});
+            json vertex = {{"position", point(v.position)}};
+            if (v.symbol) vertex["symbol"] = g.symbol_name(v.symbol);
+            if (v.transform != Frame{}) vertex["transform"] = frame(v.transform);
+            if (!embedding.empty()) vertex["embedding"] = std::move(embedding);
+            vertices.push_back(std::move(vertex));
         }
         rules.push_back({{"symbol", g.symbol_name(r.symbol)}, {"uses", r.uses}, {"vertices", std::move(vertices)}, {"edges", edges_json(r.edges)}});
     }
-    json axiom_vertices = json::array();
-    for (const AxiomVertex& v : g.axiom_vertices) {
-        axiom_vertices.push_back({{"position", point(v.position)}, {"symbol", v.symbol ? g.symbol_name(v.symbol) : ""}, {"frame", frame(v.frame)}});
+    // A learned grammar's axiom can hold most of a city: columns, as in a .ggraph file.
+    json axiom;
+    if (g.encoding.empty()) {
+        json axiom_vertices = json::array();
+        for (const AxiomVertex& v : g.axiom_vertices) {
+            json vertex = {{"position", point(v.position)}};
+            if (v.symbol) vertex["symbol"] = g.symbol_name(v.symbol);
+            if (v.frame != Frame{}) vertex["frame"] = frame(v.frame);
+            axiom_vertices.push_back(std::move(vertex));
+        }
+        axiom = {{"vertices", std::move(axiom_vertices)}, {"edges", edges_json(g.axiom_edges)}};
+    } else {
+        json x = json::array(), y = json::array(), symbol = json::array(), frames = json::array();
+        for (const AxiomVertex& v : g.axiom_vertices) {
+            x.push_back(v.position.x());
+            y.push_back(v.position.y());
+            symbol.push_back(v.symbol);
+            if (v.symbol) {
+                frames.push_back(v.frame.scale);
+                frames.push_back(v.frame.rotation_deg);
+            }
+        }
+        axiom = {{"x", std::move(x)}, {"y", std::move(y)}, {"symbol", std::move(symbol)}, {"frames", std::move(frames)},
+                 {"edges", edges_json(g.axiom_edges)}};
     }
-    return {
+    json doc = {
         {"format", "ggg-grammar"},
         {"version", grammar_file_version},
         {"name", g.name},
         {"origin_latlon", {g.origin.lat, g.origin.lon}},
         {"symbols", g.symbol_names},
         {"rules", std::move(rules)},
-        {"axiom", {{"vertices", std::move(axiom_vertices)}, {"edges", edges_json(g.axiom_edges)}}},
+        {"axiom", std::move(axiom)},
     };
+    if (!g.encoding.empty()) doc["encoding"] = encoding_json(g.encoding);
+    return doc;
 }
 
 namespace {
@@ -104,6 +185,74 @@ public:
         return out;
     }
 };
+
+// The instances are columns of equal length (see encoding_json); what they refer to (rules,
+// rule vertices, children) is checked afterwards by validate().
+Encoding read_encoding(const Reader& r, const json& doc, std::size_t symbol_count) {
+    Encoding enc;
+    const json& mode = r.member(doc, "mode", "encoding");
+    if (!mode.is_string()) r.fail("encoding.mode", "must be \"paper\" or \"lossless\"");
+    enc.mode = mode.get<std::string>();
+    enc.levels = static_cast<int>(r.integer(r.member(doc, "levels", "encoding"), "encoding.levels", 0, 1'000'000));
+    enc.tolerance_m = r.number(r.member(doc, "tolerance_m", "encoding"), "encoding.tolerance_m");
+    enc.quantum_m = r.number(r.member(doc, "quantum_m", "encoding"), "encoding.quantum_m");
+    const int class_max = highway_class_count - 1;
+    auto integers = [&](const json& v, const std::string& where, std::int64_t lo, std::int64_t hi) {
+        std::vector<std::int32_t> out;
+        for (std::size_t i = 0; i < r.array(v, where).size(); ++i) {
+            out.push_back(static_cast<std::int32_t>(r.integer(v[i], where + "[" + std::to_string(i) + "]", lo, hi)));
+        }
+        return out;
+    };
+    if (const json* a = r.optional(doc, "axiom_instances")) enc.axiom_instances = integers(*a, "encoding.axiom_instances", -1, INT32_MAX);
+    const json& inst = r.member(doc, "instances", "encoding");
+    const json& symbol = r.array(r.member(inst, "symbol", "encoding.instances"), "encoding.instances.symbol");
+    const std::size_t n = symbol.size();
+    auto column = [&](const char* key) -> const json& {
+        return r.array(r.member(inst, key, "encoding.instances"), std::string("encoding.instances.") + key, n);
+    };
+    const json& scale = column("scale");
+    const json& rotation = column("rotation_deg");
+    const json& shift = r.array(r.member(inst, "shift", "encoding.instances"), "encoding.instances.shift", 2 * n);
+    const json& residuals = column("residuals");
+    const json& children = column("children");
+    const json& embedding = column("embedding");
+    const json& classes = column("edge_classes");
+    enc.instances.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::string at = "[" + std::to_string(k) + "]";
+        RuleInstance& ri = enc.instances[k];
+        ri.symbol = static_cast<Symbol>(r.integer(symbol[k], "encoding.instances.symbol" + at, 1, static_cast<std::int64_t>(symbol_count)));
+        ri.correction.scale = r.number(scale[k], "encoding.instances.scale" + at);
+        ri.correction.rotation_deg = r.number(rotation[k], "encoding.instances.rotation_deg" + at);
+        ri.shift = {r.number(shift[2 * k], "encoding.instances.shift[" + std::to_string(2 * k) + "]"),
+                    r.number(shift[2 * k + 1], "encoding.instances.shift[" + std::to_string(2 * k + 1) + "]")};
+        const json& res = r.array(residuals[k], "encoding.instances.residuals" + at);
+        if (res.size() % 2) r.fail("encoding.instances.residuals" + at, "must hold x, y pairs");
+        for (std::size_t i = 0; i + 1 < res.size(); i += 2) {
+            ri.residuals.emplace_back(r.number(res[i], "encoding.instances.residuals" + at), r.number(res[i + 1], "encoding.instances.residuals" + at));
+        }
+        ri.children = integers(children[k], "encoding.instances.children" + at, -1, INT32_MAX);
+        const json& links = r.array(embedding[k], "encoding.instances.embedding" + at);
+        if (links.size() % 4) r.fail("encoding.instances.embedding" + at, "must hold (vertex, x, y, class) quadruples");
+        for (std::size_t i = 0; i < links.size(); i += 4) {
+            const std::string where = "encoding.instances.embedding" + at;
+            RuleInstance::Link link;
+            link.vertex = static_cast<std::int32_t>(r.integer(links[i], where, 0, INT32_MAX));
+            link.point.offset = {r.number(links[i + 1], where), r.number(links[i + 2], where)};
+            link.point.highway = static_cast<HighwayClass>(r.integer(links[i + 3], where, 0, class_max));
+            ri.embedding.push_back(link);
+        }
+        const json& ec = r.array(classes[k], "encoding.instances.edge_classes" + at);
+        if (ec.size() % 2) r.fail("encoding.instances.edge_classes" + at, "must hold (edge, class) pairs");
+        for (std::size_t i = 0; i < ec.size(); i += 2) {
+            const std::string where = "encoding.instances.edge_classes" + at;
+            ri.edge_classes.emplace_back(static_cast<std::int32_t>(r.integer(ec[i], where, 0, INT32_MAX)),
+                                         static_cast<HighwayClass>(r.integer(ec[i + 1], where, 0, class_max)));
+        }
+    }
+    return enc;
+}
 
 } // namespace
 
@@ -178,7 +327,10 @@ Grammar grammar_from_json(const json& doc, const std::string& name) {
                 for (std::size_t j = 0; j < r.array(*emb, at + ".embedding").size(); ++j) {
                     const std::string ej = at + ".embedding[" + std::to_string(j) + "]";
                     EmbeddingPoint ep;
-                    if ((*emb)[j].is_array()) {
+                    if ((*emb)[j].is_array() && (*emb)[j].size() == 3) { // [x, y, "class"]
+                        ep.offset = {r.number((*emb)[j][0], ej + "[0]"), r.number((*emb)[j][1], ej + "[1]")};
+                        ep.highway = r.highway((*emb)[j][2], ej + "[2]");
+                    } else if ((*emb)[j].is_array()) {
                         ep.offset = r.point((*emb)[j], ej);
                     } else {
                         ep.offset = r.point(r.member((*emb)[j], "offset", ej), ej + ".offset");
@@ -193,17 +345,42 @@ Grammar grammar_from_json(const json& doc, const std::string& name) {
         g.rules.push_back(std::move(rule));
     }
     const json& axiom = r.member(doc, "axiom", "file");
-    const json& vertices = r.array(r.member(axiom, "vertices", "axiom"), "axiom.vertices");
-    for (std::size_t k = 0; k < vertices.size(); ++k) {
-        const std::string at = "axiom.vertices[" + std::to_string(k) + "]";
-        AxiomVertex v;
-        v.position = r.point(r.member(vertices[k], "position", at), at + ".position");
-        v.symbol = symbol(r.optional(vertices[k], "symbol"), at + ".symbol");
-        v.frame = r.frame(r.optional(vertices[k], "frame"), at + ".frame");
-        g.axiom_vertices.push_back(v);
+    if (r.optional(axiom, "x")) {
+        // Columns: x, y, symbol (0 = terminal, k = the k-th of "symbols"), frames (scale and
+        // rotation of each nonterminal, in order).
+        const json& x = r.array(r.member(axiom, "x", "axiom"), "axiom.x");
+        const json& y = r.array(r.member(axiom, "y", "axiom"), "axiom.y", x.size());
+        const json& symbols = r.array(r.member(axiom, "symbol", "axiom"), "axiom.symbol", x.size());
+        const json& frames = r.array(r.member(axiom, "frames", "axiom"), "axiom.frames");
+        std::size_t next_frame = 0;
+        for (std::size_t k = 0; k < x.size(); ++k) {
+            const std::string at = "[" + std::to_string(k) + "]";
+            AxiomVertex v;
+            v.position = {r.number(x[k], "axiom.x" + at), r.number(y[k], "axiom.y" + at)};
+            v.symbol = static_cast<Symbol>(r.integer(symbols[k], "axiom.symbol" + at, 0, static_cast<std::int64_t>(g.symbol_names.size())));
+            if (v.symbol) {
+                if (next_frame + 2 > frames.size()) r.fail("axiom.frames", "needs a scale and a rotation for every nonterminal");
+                v.frame.scale = r.number(frames[next_frame], "axiom.frames[" + std::to_string(next_frame) + "]");
+                v.frame.rotation_deg = r.number(frames[next_frame + 1], "axiom.frames[" + std::to_string(next_frame + 1) + "]");
+                next_frame += 2;
+            }
+            g.axiom_vertices.push_back(v);
+        }
+        if (next_frame != frames.size()) r.fail("axiom.frames", "has more entries than the axiom has nonterminals");
+    } else {
+        const json& vertices = r.array(r.member(axiom, "vertices", "axiom"), "axiom.vertices");
+        for (std::size_t k = 0; k < vertices.size(); ++k) {
+            const std::string at = "axiom.vertices[" + std::to_string(k) + "]";
+            AxiomVertex v;
+            v.position = r.point(r.member(vertices[k], "position", at), at + ".position");
+            v.symbol = symbol(r.optional(vertices[k], "symbol"), at + ".symbol");
+            v.frame = r.frame(r.optional(vertices[k], "frame"), at + ".frame");
+            g.axiom_vertices.push_back(v);
+        }
     }
     const json* axiom_edges = r.optional(axiom, "edges");
     if (axiom_edges) g.axiom_edges = r.edges(*axiom_edges, g.axiom_vertices.size(), "axiom.edges");
+    if (const json* enc = r.optional(doc, "encoding")) g.encoding = read_encoding(r, *enc, g.symbol_names.size());
     try {
         validate(g);
     } catch (const GrammarError& e) {
@@ -228,7 +405,8 @@ Grammar read_grammar(const std::string& path) {
 }
 
 void write_grammar(const Grammar& grammar, const std::string& path) {
-    const std::string text = io_detail::dump(grammar_to_json(grammar), 1);
+    // A hand-written grammar is for reading; a learned one is data, written compactly.
+    const std::string text = io_detail::dump(grammar_to_json(grammar), grammar.encoding.empty() ? 1 : -1);
     io_detail::write_file(path, [&](std::ostream& out) { out << text << '\n'; });
 }
 

@@ -1,0 +1,131 @@
+#include "learn_command.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "ggg/encoding/decoding.hpp"
+#include "ggg/encoding/grammar_encoder.hpp"
+#include "ggg/error.hpp"
+#include "ggg/io/grammar_file.hpp"
+#include "ggg/io/read_graph.hpp"
+#include "../src/io/json_util.hpp"
+
+namespace ggg::cli {
+
+namespace {
+
+// On a terminal, the usual progress line; elsewhere (a log, CI) one line per stage.
+ProgressCallback learning_progress() {
+    if (ProgressCallback terminal = terminal_progress()) return terminal;
+    return [last = std::string()](double, std::string_view message) mutable {
+        const std::string stage(message.substr(0, message.find(':')));
+        if (stage != last) {
+            last = stage;
+            std::fprintf(stderr, "%.*s\n", static_cast<int>(message.size()), message.data());
+        }
+        return true;
+    };
+}
+
+} // namespace
+
+void LearnCommand::add_to(CLI::App& app) {
+    command_ = app.add_subcommand("learn", "Learn a grammar of a road graph (rules and axiom), check that it decodes; prints JSON stats");
+    auto& c = *command_;
+    c.add_option("INPUT", input_, "Input road graph (OSM, GeoJSON or .ggraph)")->required();
+    c.add_option("-o,--output", output_, "Grammar file to write (.json)")->required();
+    c.add_flag("--lossless", lossless_, "Store per-vertex residuals: decoding gives back exactly the input's edges and positions");
+    c.add_option("--levels", levels_, "Most levels of hierarchy (0 = until nothing repeats)")->check(CLI::Range(0, 100000))->capture_default_str();
+    c.add_option("--stats", stats_path_, "Also write the stats to this JSON file");
+    import_.add_to(c);
+    analysis_.max_order = LearnOptions::default_analysis().detection.max_order;
+    analysis_.add_to(c);
+}
+
+int LearnCommand::run() const {
+    LearnOptions options;
+    options.analysis = analysis_.options();
+    options.lossless = lossless_;
+    options.max_levels = levels_;
+    check_options(options);
+    const auto t0 = std::chrono::steady_clock::now();
+    const GeometricGraph graph = read_graph(input_, import_.options(), nullptr, terminal_progress());
+    const std::chrono::duration<double> import_seconds = std::chrono::steady_clock::now() - t0;
+    const LearnResult result = learn_grammar(graph, options, learning_progress());
+    write_grammar(result.grammar, output_);
+    const std::chrono::duration<double> total = std::chrono::steady_clock::now() - t0;
+
+    nlohmann::json levels = nlohmann::json::array();
+    for (const LevelReport& l : result.levels) {
+        levels.push_back({{"level", l.level},
+                          {"vertices", l.vertices},
+                          {"edges", l.edges},
+                          {"rules", l.rules},
+                          {"instances", l.instances},
+                          {"frame_rejected", l.frame_rejected},
+                          {"shape_rejected", l.shape_rejected},
+                          {"seconds", l.seconds}});
+    }
+    const RoundTrip& rt = result.roundtrip;
+    const nlohmann::json stats{
+        {"input", {{"vertices", graph.vertex_count()}, {"edges", graph.edge_count()}}},
+        {"mode", result.grammar.encoding.mode},
+        {"rules", result.grammar.rules.size()},
+        {"instances", result.grammar.encoding.instances.size()},
+        {"levels", result.grammar.encoding.levels},
+        {"axiom", {{"vertices", result.grammar.axiom_vertices.size()}, {"edges", result.axiom_edges}}},
+        {"seconds",
+         {{"import", import_seconds.count()},
+          {"analysis", result.analysis_seconds},
+          {"encoding", result.encoding_seconds},
+          {"total", total.count()}}},
+        {"bytes", {{"original", result.original_bytes}, {"encoded", result.encoded_bytes}}},
+        {"roundtrip",
+         {{"edges_equal", rt.edges_equal},
+          {"classes_equal", rt.classes_equal},
+          {"missing_edges", rt.missing_edges},
+          {"extra_edges", rt.extra_edges},
+          {"unplaced_vertices", rt.unplaced_vertices},
+          {"max_displacement_m", rt.max_displacement_m},
+          {"mean_displacement_m", rt.mean_displacement_m}}},
+        {"per_level", std::move(levels)},
+        {"peak_memory_mb", peak_memory_mb()},
+    };
+    if (!stats_path_.empty()) {
+        io_detail::write_file(stats_path_, [&](std::ostream& out) { out << stats.dump(1) << '\n'; });
+    }
+    std::cout << stats.dump() << std::endl;
+    return 0;
+}
+
+void DecodeCommand::add_to(CLI::App& app) {
+    command_ = app.add_subcommand("decode", "Decode a learned grammar back to a road graph (or to one level of its hierarchy)");
+    auto& c = *command_;
+    c.add_option("GRAMMAR", grammar_, "Learned grammar file (.json)")->required();
+    c.add_option("-o,--output", output_, "Output file: .geojson or .ggraph (keeps symbols and frames)")->required();
+    c.add_option("--level", level_, "Write the graph encoded to this level instead (0 = the streets)")->check(CLI::NonNegativeNumber);
+}
+
+int DecodeCommand::run() const {
+    const Grammar grammar = read_grammar(grammar_);
+    const auto t0 = std::chrono::steady_clock::now();
+    const GeometricGraph graph = level_ == 0 ? decode_grammar(grammar, nullptr, terminal_progress())
+                                             : encoded_graph(grammar, level_, terminal_progress());
+    const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - t0;
+    write_graph(graph, output_);
+    std::cout << nlohmann::json{{"output", output_},
+                                {"vertices", graph.vertex_count()},
+                                {"edges", graph.edge_count()},
+                                {"level", level_},
+                                {"levels", grammar.encoding.levels},
+                                {"mode", grammar.encoding.mode},
+                                {"seconds", seconds.count()}}
+                     .dump()
+              << std::endl;
+    return 0;
+}
+
+} // namespace ggg::cli

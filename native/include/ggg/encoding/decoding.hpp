@@ -1,0 +1,28 @@
+#pragma once
+// Decoding a learned grammar: the forward derivation of its axiom (rewriting.hpp) with the
+// settings the encoder recorded (Grammar::encoding), and the graph of each level of the
+// hierarchy, for showing how a city was encoded (paper Fig. 13).
+#include "ggg/geometric_graph.hpp"
+#include "ggg/grammar.hpp"
+#include "ggg/progress.hpp"
+#include "ggg/rewriting.hpp"
+
+namespace ggg {
+
+// How a learned grammar is derived: its level count as steps, its absolute tolerance, a
+// vertex budget that fits exactly what its instances place.
+DeriveOptions decode_options(const Grammar& grammar);
+
+// The streets a learned grammar encodes. `report`, when given, receives the derivation's
+// report (placed_by tells which instance placed each vertex). Throws GrammarError for a
+// grammar that is not a learned one or does not decode completely.
+GeometricGraph decode_grammar(const Grammar& grammar, DeriveReport* report = nullptr,
+                              const ProgressCallback& progress = {});
+
+// The graph encoded to `level` (0 = the decoded streets, encoding.levels = the axiom): the
+// nonterminal vertices of that level with their symbols and frames, joined to each other
+// and to the streets as the streets they stand for are joined. Throws UsageError for a
+// level out of range.
+GeometricGraph encoded_graph(const Grammar& grammar, int level, const ProgressCallback& progress = {});
+
+} // namespace ggg

@@ -1,0 +1,134 @@
+// Decoding a learned grammar and the graphs of its levels; see decoding.hpp.
+#include "ggg/encoding/decoding.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+#include "ggg/error.hpp"
+
+namespace ggg {
+
+DeriveOptions decode_options(const Grammar& grammar) {
+    DeriveOptions o;
+    o.max_steps = grammar.encoding.levels;
+    o.tolerance = grammar.encoding.tolerance_m;
+    o.tolerance_relative = false;
+    o.strict = false;
+    std::size_t placed = grammar.axiom_vertices.size();
+    for (const RuleInstance& inst : grammar.encoding.instances) {
+        const Rule* rule = grammar.rule_for(inst.symbol);
+        placed += rule ? rule->vertices.size() : 0;
+    }
+    o.max_vertices = placed + 1;
+    return o;
+}
+
+namespace {
+
+void require_learned(const Grammar& grammar) {
+    if (grammar.encoding.empty()) {
+        throw GrammarError("the grammar '" + grammar.name + "' was not learned from a graph (it has no \"encoding\"): derive it instead");
+    }
+}
+
+} // namespace
+
+GeometricGraph decode_grammar(const Grammar& grammar, DeriveReport* report_out, const ProgressCallback& progress) {
+    require_learned(grammar);
+    GeometricGraph g = grammar.axiom_graph();
+    DeriveReport report = derive(g, grammar, decode_options(grammar), progress);
+    if (std::any_of(g.symbols.begin(), g.symbols.end(), [](Symbol s) { return s != 0; })) {
+        throw GrammarError("the grammar '" + grammar.name + "' does not decode completely in its " +
+                           std::to_string(grammar.encoding.levels) + " levels (nonterminals are left)");
+    }
+    g.instances.clear();
+    if (report_out) *report_out = std::move(report);
+    return g;
+}
+
+GeometricGraph encoded_graph(const Grammar& grammar, int level, const ProgressCallback& progress) {
+    require_learned(grammar);
+    const int levels = grammar.encoding.levels;
+    if (level < 0 || level > levels) {
+        throw UsageError("level " + std::to_string(level) + " is out of range (0 to " + std::to_string(levels) + ")");
+    }
+    DeriveReport full;
+    const GeometricGraph streets = decode_grammar(grammar, &full, progress);
+    if (level == 0) return streets;
+
+    // The derivation stopped `levels - level` steps in: its vertices are this level's graph.
+    GeometricGraph partial = grammar.axiom_graph();
+    DeriveOptions options = decode_options(grammar);
+    options.max_steps = levels - level;
+    const DeriveReport steps = derive(partial, grammar, options);
+
+    // Instances by parent, to find each street vertex's ancestor pending at this level.
+    const auto& instances = grammar.encoding.instances;
+    std::vector<std::int32_t> parent(instances.size(), -1);
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+        for (std::int32_t c : instances[i].children) {
+            if (c >= 0) parent[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(i);
+        }
+    }
+    std::unordered_map<std::int32_t, VertexId> pending;          // instance -> vertex of `partial`
+    std::map<std::pair<std::int32_t, std::int32_t>, VertexId> placed; // (instance, rule vertex) -> vertex
+    std::unordered_map<VertexId, VertexId> axiom;                 // axiom vertex -> vertex
+    for (std::size_t v = 0; v < partial.vertex_count(); ++v) {
+        const auto id = static_cast<VertexId>(v);
+        if (partial.instance_of(id) >= 0) pending[partial.instance_of(id)] = id;
+        const Placement& p = steps.placed_by[v];
+        if (p.instance >= 0) placed[{p.instance, p.rule_vertex}] = id;
+        else if (steps.source_vertex[v] >= 0) axiom[steps.source_vertex[v]] = id;
+    }
+    std::vector<VertexId> image(streets.vertex_count(), -1);
+    for (std::size_t v = 0; v < streets.vertex_count(); ++v) {
+        const Placement& p = full.placed_by[v];
+        if (p.instance < 0) {
+            const auto it = axiom.find(full.source_vertex[v]);
+            if (it != axiom.end()) image[v] = it->second;
+            continue;
+        }
+        const auto it = placed.find({p.instance, p.rule_vertex});
+        if (it != placed.end()) {
+            image[v] = it->second;
+            continue;
+        }
+        for (std::int32_t a = p.instance; a >= 0; a = parent[static_cast<std::size_t>(a)]) {
+            const auto found = pending.find(a);
+            if (found != pending.end()) {
+                image[v] = found->second;
+                break;
+            }
+        }
+    }
+    // Edges: the streets' edges between the vertices they map to, the most important class
+    // where several fold into one; the derivation's own (transient) edges are dropped.
+    GeometricGraph out;
+    out.origin = partial.origin;
+    for (std::size_t v = 0; v < partial.vertex_count(); ++v) {
+        out.add_vertex(partial.positions[v]);
+        out.symbols.back() = partial.symbols[v];
+        out.frames.back() = partial.frames[v];
+    }
+    out.instances = partial.instances;
+    std::map<std::pair<VertexId, VertexId>, EdgeId> seen;
+    for (std::size_t e = 0; e < streets.edge_count(); ++e) {
+        VertexId a = image[static_cast<std::size_t>(streets.edges[e][0])];
+        VertexId b = image[static_cast<std::size_t>(streets.edges[e][1])];
+        if (a < 0 || b < 0 || a == b) continue;
+        if (a > b) std::swap(a, b);
+        const auto [it, inserted] = seen.emplace(std::make_pair(a, b), static_cast<EdgeId>(out.edge_count()));
+        if (inserted) {
+            EdgeAttributes attributes;
+            attributes.highway = streets.edge_highway[e];
+            out.add_edge(a, b, attributes);
+        } else if (highway_rank(streets.edge_highway[e]) < highway_rank(out.edge_highway[static_cast<std::size_t>(it->second)])) {
+            out.edge_highway[static_cast<std::size_t>(it->second)] = streets.edge_highway[e];
+        }
+    }
+    return out;
+}
+
+} // namespace ggg
