@@ -58,42 +58,10 @@ int LearnCommand::run() const {
     write_grammar(result.grammar, output_);
     const std::chrono::duration<double> total = std::chrono::steady_clock::now() - t0;
 
-    nlohmann::json levels = nlohmann::json::array();
-    for (const LevelReport& l : result.levels) {
-        levels.push_back({{"level", l.level},
-                          {"vertices", l.vertices},
-                          {"edges", l.edges},
-                          {"rules", l.rules},
-                          {"instances", l.instances},
-                          {"frame_rejected", l.frame_rejected},
-                          {"shape_rejected", l.shape_rejected},
-                          {"seconds", l.seconds}});
-    }
-    const RoundTrip& rt = result.roundtrip;
-    const nlohmann::json stats{
-        {"input", {{"vertices", graph.vertex_count()}, {"edges", graph.edge_count()}}},
-        {"mode", result.grammar.encoding.mode},
-        {"rules", result.grammar.rules.size()},
-        {"instances", result.grammar.encoding.instances.size()},
-        {"levels", result.grammar.encoding.levels},
-        {"axiom", {{"vertices", result.grammar.axiom_vertices.size()}, {"edges", result.axiom_edges}}},
-        {"seconds",
-         {{"import", import_seconds.count()},
-          {"analysis", result.analysis_seconds},
-          {"encoding", result.encoding_seconds},
-          {"total", total.count()}}},
-        {"bytes", {{"original", result.original_bytes}, {"encoded", result.encoded_bytes}}},
-        {"roundtrip",
-         {{"edges_equal", rt.edges_equal},
-          {"classes_equal", rt.classes_equal},
-          {"missing_edges", rt.missing_edges},
-          {"extra_edges", rt.extra_edges},
-          {"unplaced_vertices", rt.unplaced_vertices},
-          {"max_displacement_m", rt.max_displacement_m},
-          {"mean_displacement_m", rt.mean_displacement_m}}},
-        {"per_level", std::move(levels)},
-        {"peak_memory_mb", peak_memory_mb()},
-    };
+    nlohmann::json stats = learn_report(graph, result);
+    stats["seconds"]["import"] = import_seconds.count();
+    stats["seconds"]["total"] = total.count();
+    stats["peak_memory_mb"] = peak_memory_mb();
     if (!stats_path_.empty()) {
         io_detail::write_file(stats_path_, [&](std::ostream& out) { out << stats.dump(1) << '\n'; });
     }

@@ -90,5 +90,7 @@ private:
 
 // Binds the analyzer (analysis_bindings.cpp).
 void bind_analysis(py::module_& m);
+// Binds grammar learning and decoding (learning_bindings.cpp).
+void bind_learning(py::module_& m);
 
 } // namespace ggg::python

@@ -17,6 +17,7 @@
 #include "ggg/io/read_graph.hpp"
 #include "ggg/planar_faces.hpp"
 #include "ggg/projection.hpp"
+#include "ggg/encoding/decoding.hpp"
 #include "ggg/rewriting.hpp"
 
 #include <nlohmann/json.hpp>
@@ -165,8 +166,11 @@ py::object json_to_python(const nlohmann::json& j) { return py::module_::import(
 
 py::list rule_summaries(const ggg::Grammar& g) {
     py::list out;
-    for (const ggg::Rule& r : g.rules) {
+    const std::vector<int> levels = ggg::rule_levels(g);
+    for (std::size_t i = 0; i < g.rules.size(); ++i) {
+        const ggg::Rule& r = g.rules[i];
         py::dict d;
+        d["level"] = levels[i];
         d["symbol"] = r.symbol;
         d["name"] = g.symbol_name(r.symbol);
         d["vertices"] = r.vertices.size();
@@ -338,8 +342,13 @@ PYBIND11_MODULE(ggg, m) {
         .def_property_readonly("name", [](const ggg::Grammar& g) { return g.name; })
         .def_property_readonly("symbols", [](const ggg::Grammar& g) { return g.symbol_names; },
                                "Nonterminal names; symbol k is symbols[k-1] (0 is the terminal)")
-        .def_property_readonly("rules", &rule_summaries, "One dict per rule: symbol, name, vertices, edges, nonterminals, embedding_points, uses")
+        .def_property_readonly("rules", &rule_summaries, "One dict per rule: symbol, name, level, vertices, edges, nonterminals, embedding_points, uses")
         .def_property_readonly("origin_latlon", [](const ggg::Grammar& g) { return py::make_tuple(g.origin.lat, g.origin.lon); })
+        .def_property_readonly("learned", [](const ggg::Grammar& g) { return !g.encoding.empty(); },
+                               "True for a grammar learned from a graph (ggg.learn), which ggg.decode turns back into it")
+        .def_property_readonly("mode", [](const ggg::Grammar& g) { return g.encoding.mode; }, "'paper', 'lossless' or '' (not learned)")
+        .def_property_readonly("levels", [](const ggg::Grammar& g) { return g.encoding.levels; }, "Levels of hierarchy of a learned grammar")
+        .def_property_readonly("instance_count", [](const ggg::Grammar& g) { return g.encoding.instances.size(); })
         .def("axiom_graph", &ggg::Grammar::axiom_graph, "The axiom as a Graph (nonterminal vertices carry their frames)")
         .def("rule_graph", [](const ggg::Grammar& g, ggg::Symbol symbol) {
             const ggg::Rule* rule = g.rule_for(symbol);
@@ -368,6 +377,7 @@ PYBIND11_MODULE(ggg, m) {
           "`tolerance` is relative to the rewritten vertex's scale; `tolerance_m` (metres) replaces it.");
 
     ggg::python::bind_analysis(m);
+    ggg::python::bind_learning(m);
 
     m.def("read_graph", &read_graph, py::arg("path"), py::arg("highways") = "drivable", py::arg("keep_shape_nodes") = false,
           py::arg("consolidate_m") = 0.0, py::arg("origin_latlon") = py::none(), py::arg("progress") = py::none(),

@@ -25,6 +25,28 @@ DeriveOptions decode_options(const Grammar& grammar) {
     return o;
 }
 
+std::vector<int> rule_levels(const Grammar& grammar) {
+    std::vector<int> level(grammar.rules.size(), 0);
+    // Rules of a learned grammar only place nonterminals of lower levels; a hand-written
+    // recursive rule (P -> P) gets the level it has after as many passes as there are rules.
+    for (std::size_t pass = 0; pass < grammar.rules.size(); ++pass) {
+        bool changed = false;
+        for (std::size_t r = 0; r < grammar.rules.size(); ++r) {
+            int l = 1;
+            for (const RuleVertex& v : grammar.rules[r].vertices) {
+                if (v.symbol == 0) continue;
+                for (std::size_t c = 0; c < grammar.rules.size(); ++c) {
+                    if (grammar.rules[c].symbol == v.symbol && c != r) l = std::max(l, level[c] + 1);
+                }
+            }
+            changed |= l != level[r];
+            level[r] = l;
+        }
+        if (!changed) break;
+    }
+    return level;
+}
+
 namespace {
 
 void require_learned(const Grammar& grammar) {
@@ -48,7 +70,7 @@ GeometricGraph decode_grammar(const Grammar& grammar, DeriveReport* report_out, 
     return g;
 }
 
-GeometricGraph encoded_graph(const Grammar& grammar, int level, const ProgressCallback& progress) {
+GeometricGraph encoded_graph(const Grammar& grammar, int level, const ProgressCallback& progress, std::vector<VertexId>* image_out) {
     require_learned(grammar);
     const int levels = grammar.encoding.levels;
     if (level < 0 || level > levels) {
@@ -56,7 +78,13 @@ GeometricGraph encoded_graph(const Grammar& grammar, int level, const ProgressCa
     }
     DeriveReport full;
     const GeometricGraph streets = decode_grammar(grammar, &full, progress);
-    if (level == 0) return streets;
+    if (level == 0) {
+        if (image_out) {
+            image_out->resize(streets.vertex_count());
+            for (std::size_t v = 0; v < streets.vertex_count(); ++v) (*image_out)[v] = static_cast<VertexId>(v);
+        }
+        return streets;
+    }
 
     // The derivation stopped `levels - level` steps in: its vertices are this level's graph.
     GeometricGraph partial = grammar.axiom_graph();
@@ -128,6 +156,7 @@ GeometricGraph encoded_graph(const Grammar& grammar, int level, const ProgressCa
             out.edge_highway[static_cast<std::size_t>(it->second)] = streets.edge_highway[e];
         }
     }
+    if (image_out) *image_out = std::move(image);
     return out;
 }
 

@@ -191,8 +191,11 @@ private:
     bool encode_level(int level) {
         if (graph_.edge_count() == 0) return false;
         const auto level_start = Clock::now();
-        const double done = 0.9 * (1.0 - static_cast<double>(graph_.vertex_count()) / static_cast<double>(input_.vertex_count()));
-        const double share = std::max(0.01, 0.9 - done) * 0.5;
+        // Each level takes half of what is left of the first 90 %: the count of levels is not
+        // known in advance, and the first levels, on the largest graphs, take longest.
+        const double done = progress_done_;
+        const double share = (0.9 - done) * 0.5;
+        progress_done_ += share;
         ProgressCallback stage;
         if (progress_) {
             const std::string prefix = "level " + std::to_string(level) + ": ";
@@ -629,6 +632,7 @@ private:
     const LearnOptions& options_;
     const ProgressCallback& progress_;
     LearnResult result_;
+    double progress_done_ = 0.0;
 
     GeometricGraph graph_;   // the current level's graph
     std::vector<Node> nodes_; // per vertex of graph_
@@ -663,6 +667,41 @@ LearnResult learn_grammar(const GeometricGraph& graph, const LearnOptions& optio
     check_options(options);
     if (graph.edge_count() == 0) throw InputError("the graph has no streets to learn from");
     return Encoder(graph, options, progress).run();
+}
+
+nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& result) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const LevelReport& l : result.levels) {
+        levels.push_back({{"level", l.level},
+                          {"vertices", l.vertices},
+                          {"edges", l.edges},
+                          {"rules", l.rules},
+                          {"instances", l.instances},
+                          {"frame_rejected", l.frame_rejected},
+                          {"shape_rejected", l.shape_rejected},
+                          {"seconds", l.seconds}});
+    }
+    const RoundTrip& rt = result.roundtrip;
+    const Grammar& g = result.grammar;
+    return {
+        {"input", {{"vertices", input.vertex_count()}, {"edges", input.edge_count()}}},
+        {"mode", g.encoding.mode},
+        {"rules", g.rules.size()},
+        {"instances", g.encoding.instances.size()},
+        {"levels", g.encoding.levels},
+        {"axiom", {{"vertices", g.axiom_vertices.size()}, {"edges", result.axiom_edges}}},
+        {"seconds", {{"analysis", result.analysis_seconds}, {"encoding", result.encoding_seconds}}},
+        {"bytes", {{"original", result.original_bytes}, {"encoded", result.encoded_bytes}}},
+        {"roundtrip",
+         {{"edges_equal", rt.edges_equal},
+          {"classes_equal", rt.classes_equal},
+          {"missing_edges", rt.missing_edges},
+          {"extra_edges", rt.extra_edges},
+          {"unplaced_vertices", rt.unplaced_vertices},
+          {"max_displacement_m", rt.max_displacement_m},
+          {"mean_displacement_m", rt.mean_displacement_m}}},
+        {"per_level", std::move(levels)},
+    };
 }
 
 std::size_t graph_structure_bytes(const GeometricGraph& g, double quantum_m) {

@@ -2,6 +2,8 @@
 // Decoding a learned grammar: the forward derivation of its axiom (rewriting.hpp) with the
 // settings the encoder recorded (Grammar::encoding), and the graph of each level of the
 // hierarchy, for showing how a city was encoded (paper Fig. 13).
+#include <vector>
+
 #include "ggg/geometric_graph.hpp"
 #include "ggg/grammar.hpp"
 #include "ggg/progress.hpp"
@@ -13,6 +15,10 @@ namespace ggg {
 // vertex budget that fits exactly what its instances place.
 DeriveOptions decode_options(const Grammar& grammar);
 
+// Per rule, its level in the hierarchy: 1 for a rule of street vertices only, else one
+// more than the highest level among the nonterminals it places (any grammar).
+std::vector<int> rule_levels(const Grammar& grammar);
+
 // The streets a learned grammar encodes. `report`, when given, receives the derivation's
 // report (placed_by tells which instance placed each vertex). Throws GrammarError for a
 // grammar that is not a learned one or does not decode completely.
@@ -23,6 +29,9 @@ GeometricGraph decode_grammar(const Grammar& grammar, DeriveReport* report = nul
 // nonterminal vertices of that level with their symbols and frames, joined to each other
 // and to the streets as the streets they stand for are joined. Throws UsageError for a
 // level out of range.
-GeometricGraph encoded_graph(const Grammar& grammar, int level, const ProgressCallback& progress = {});
+// `image`, when given, receives for each vertex of the decoded streets the vertex of the
+// level's graph that stands for it.
+GeometricGraph encoded_graph(const Grammar& grammar, int level, const ProgressCallback& progress = {},
+                             std::vector<VertexId>* image = nullptr);
 
 } // namespace ggg

@@ -24,6 +24,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "ggg/analyzer.hpp"
 #include "ggg/geometric_graph.hpp"
 #include "ggg/grammar.hpp"
@@ -104,6 +106,10 @@ struct LearnResult {
 // without edges.
 LearnResult learn_grammar(const GeometricGraph& graph, const LearnOptions& options = {},
                           const ProgressCallback& progress = {});
+
+// The figures of a learning as `ggg learn` prints them (docs/learning.md): input, mode,
+// rules, instances, levels, axiom, seconds (analysis, encoding), bytes, roundtrip, per_level.
+nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& result);
 
 // The size measure of LearnResult::original_bytes for any graph.
 std::size_t graph_structure_bytes(const GeometricGraph& graph, double quantum_m = 1e-7);

@@ -1,0 +1,100 @@
+// ggg.learn, ggg.decode and ggg.encoded_graph: grammar learning from Python.
+#include <optional>
+#include <utility>
+
+#include <pybind11/stl.h>
+
+#include "common.hpp"
+#include "ggg/encoding/decoding.hpp"
+#include "ggg/encoding/grammar_encoder.hpp"
+#include "ggg/error.hpp"
+
+namespace ggg::python {
+
+namespace {
+
+// nlohmann::json -> Python objects (dicts, lists, numbers, strings).
+py::object to_python(const nlohmann::json& j) {
+    switch (j.type()) {
+    case nlohmann::json::value_t::object: {
+        py::dict d;
+        for (const auto& [key, value] : j.items()) d[py::str(key)] = to_python(value);
+        return std::move(d);
+    }
+    case nlohmann::json::value_t::array: {
+        py::list l;
+        for (const auto& value : j) l.append(to_python(value));
+        return std::move(l);
+    }
+    case nlohmann::json::value_t::string: return py::str(j.get<std::string>());
+    case nlohmann::json::value_t::boolean: return py::bool_(j.get<bool>());
+    case nlohmann::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
+    case nlohmann::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
+    case nlohmann::json::value_t::number_float: return py::float_(j.get<double>());
+    default: return py::none();
+    }
+}
+
+} // namespace
+
+void bind_learning(py::module_& m) {
+    m.def(
+        "learn",
+        [](const GeometricGraph& g, bool lossless, int levels, std::pair<int, int> grid, double cut, bool full, int max_order,
+           std::size_t min_count, const std::string& scale, double min_aspect, std::size_t min_leaves, double min_irregularity,
+           double max_shape_error, std::optional<py::function> progress) {
+            LearnOptions o;
+            o.lossless = lossless;
+            o.max_levels = levels;
+            o.analysis.detection.angle_cells = grid.first;
+            o.analysis.detection.distance_cells = grid.second;
+            o.analysis.detection.cut = cut;
+            o.analysis.detection.full = full;
+            o.analysis.detection.max_order = max_order;
+            o.analysis.detection.min_count = min_count;
+            o.analysis.detection.scale_mode = scale_mode_from_name(scale);
+            o.analysis.constraints.min_aspect = min_aspect;
+            o.analysis.constraints.min_leaves = min_leaves;
+            o.analysis.constraints.min_irregularity_deg = min_irregularity;
+            o.max_shape_error = max_shape_error;
+            check_options(o);
+            PythonProgress reporter(std::move(progress));
+            LearnResult result = reporter.run([&](const ProgressCallback& cb) { return learn_grammar(g, o, cb); });
+            py::object stats = to_python(learn_report(g, result));
+            return py::make_tuple(std::move(result.grammar), stats);
+        },
+        py::arg("graph"), py::arg("lossless") = false, py::arg("levels") = 64, py::arg("grid") = std::pair<int, int>{12, 10},
+        py::arg("cut") = 0.8, py::arg("full") = false, py::arg("max_order") = LearnOptions::default_analysis().detection.max_order,
+        py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
+        py::arg("min_irregularity") = 0.0, py::arg("max_shape_error") = LearnOptions{}.max_shape_error,
+        py::arg("progress") = py::none(),
+        "Learn a grammar of the road graph: returns (Grammar, stats dict as `ggg learn` prints it).\n"
+        "lossless=True stores per-vertex residuals so that decode() gives back exactly the graph's edges and\n"
+        "positions (within 1e-6 m). levels: most levels of hierarchy (0 = until nothing repeats). The analysis\n"
+        "options are those of ggg.analyze; min_aspect / min_leaves / min_irregularity constrain the patterns\n"
+        "that become rules. progress(fraction, message) is called per level and may return False to cancel.");
+
+    m.def(
+        "decode",
+        [](const Grammar& grammar, std::optional<py::function> progress) {
+            PythonProgress reporter(std::move(progress));
+            return reporter.run([&](const ProgressCallback& cb) { return decode_grammar(grammar, nullptr, cb); });
+        },
+        py::arg("grammar"), py::arg("progress") = py::none(),
+        "The road graph a learned grammar encodes (its axiom derived level by level).");
+
+    m.def(
+        "encoded_graph",
+        [](const Grammar& grammar, int level, std::optional<py::function> progress) {
+            PythonProgress reporter(std::move(progress));
+            std::vector<VertexId> image;
+            GeometricGraph g = reporter.run([&](const ProgressCallback& cb) { return encoded_graph(grammar, level, cb, &image); });
+            return py::make_tuple(std::move(g), column(image));
+        },
+        py::arg("grammar"), py::arg("level"), py::arg("progress") = py::none(),
+        "The graph encoded to `level` (0 = the streets, grammar.levels = the axiom) and, for each vertex of the\n"
+        "decoded streets, the vertex of that graph that stands for it (int32). Nonterminal vertices carry their\n"
+        "rule's symbol (Graph.vertex_symbols).");
+}
+
+} // namespace ggg::python
