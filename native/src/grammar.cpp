@@ -119,6 +119,12 @@ void validate_encoding(const Grammar& g) {
         for (std::size_t i = 0; i < inst.children.size(); ++i) {
             claim(inst.children[i], rule->vertices[i].symbol, where + ".children[" + std::to_string(i) + "]");
         }
+        std::size_t points = 0;
+        for (const RuleVertex& v : rule->vertices) points += v.embedding.size();
+        for (std::int32_t p : inst.rule_points) {
+            if (p < 0 || static_cast<std::size_t>(p) >= points) fail(where + ".rule_points", "rule embedding point out of range");
+        }
+        if (!std::isfinite(inst.tolerance_m) || inst.tolerance_m < 0) fail(where + ".tolerance_m", "must be a finite number >= 0");
         for (const RuleInstance::Link& link : inst.embedding) {
             if (link.vertex < 0 || static_cast<std::size_t>(link.vertex) >= size) fail(where + ".embedding", "rule vertex out of range");
             check_finite(link.point.offset, where + ".embedding");

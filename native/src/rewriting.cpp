@@ -144,6 +144,21 @@ double world_tolerance(const DeriveOptions& options, const Similarity2& frame) {
     return options.tolerance_relative ? options.tolerance * frame.scale() : options.tolerance;
 }
 
+// What a rewrite places where: the rule, and the instance of a learned grammar if the
+// vertex carries one (its correction applies to the vertex's frame).
+struct Rewrite {
+    const Rule* rule = nullptr;
+    const RuleInstance* instance = nullptr;
+    std::int32_t instance_id = -1;
+    Similarity2 frame;
+    std::vector<VertexId> ids;
+    std::vector<Vec2> positions;
+};
+
+double rewrite_tolerance(const DeriveOptions& options, const Rewrite& w) {
+    return w.instance && w.instance->tolerance_m > 0 ? w.instance->tolerance_m : world_tolerance(options, w.frame);
+}
+
 // Strict mode: can every embedding point of this rewrite find a host vertex that the step
 // does not rewrite? `host` indexes exactly those vertices.
 bool embedding_complete(const bgi::rtree<Entry, bgi::rstar<16>>& host, const GeometricGraph& g, const Rule& rule,
@@ -215,16 +230,6 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
     }
 
     StepBuilder builder(g, erased);
-    // What a rewrite places where: the rule, and the instance of a learned grammar if the
-    // vertex carries one (its correction applies to the vertex's frame).
-    struct Rewrite {
-        const Rule* rule = nullptr;
-        const RuleInstance* instance = nullptr;
-        std::int32_t instance_id = -1;
-        Similarity2 frame;
-        std::vector<VertexId> ids;
-        std::vector<Vec2> positions;
-    };
     std::vector<Rewrite> placed(rewrites.size());
     std::vector<Placement> placements;
     // Steps 1-3 for every rewrite: S in q's frame, q erased (by the builder), S placed.
@@ -241,7 +246,7 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
             w.frame = w.frame * w.instance->correction.at(Vec2::Zero());
             w.frame.t += w.instance->shift;
         }
-        const double tolerance = world_tolerance(options, w.frame);
+        const double tolerance = rewrite_tolerance(options, w);
         for (std::size_t i = 0; i < w.rule->vertices.size(); ++i) {
             const RuleVertex& rv = w.rule->vertices[i];
             Vec2 p = w.frame.apply(rv.position);
@@ -274,7 +279,7 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
     // Step 4: embedding points connect to the nearest vertex within the tolerance that is
     // not part of the same rewrite.
     for (Rewrite& w : placed) {
-        const double tolerance = world_tolerance(options, w.frame);
+        const double tolerance = rewrite_tolerance(options, w);
         const auto& own = w.ids;
         auto connect = [&](std::size_t i, const EmbeddingPoint& ep) {
             const Vec2 target = w.positions[i] + w.frame.apply_linear(ep.offset);
@@ -289,6 +294,16 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
             report.embedding_edges += builder.add_edge(own[i], partner, a);
         };
         if (w.instance) {
+            if (!w.instance->rule_points.empty()) {
+                std::vector<std::pair<std::size_t, const EmbeddingPoint*>> points;
+                for (std::size_t i = 0; i < w.rule->vertices.size(); ++i) {
+                    for (const EmbeddingPoint& ep : w.rule->vertices[i].embedding) points.emplace_back(i, &ep);
+                }
+                for (std::int32_t p : w.instance->rule_points) {
+                    const auto& [i, ep] = points[static_cast<std::size_t>(p)];
+                    connect(i, *ep);
+                }
+            }
             for (const RuleInstance::Link& link : w.instance->embedding) connect(static_cast<std::size_t>(link.vertex), link.point);
         } else {
             for (std::size_t i = 0; i < w.rule->vertices.size(); ++i) {

@@ -87,8 +87,14 @@ struct RuleInstance {
     // Per rule vertex, the instance rewriting the nonterminal placed there (-1: the rule
     // alone); empty = none.
     std::vector<std::int32_t> children;
-    // Replaces the rule's embedding for this instance.
+    // This instance's embedding, which replaces the rule's: the rule's points it uses as
+    // they are (indices into the rule's points, counted vertex by vertex), and its own.
+    std::vector<std::int32_t> rule_points;
     std::vector<Link> embedding;
+    // Tolerance of this instance's embedding and merging in metres; 0 = the grammar's.
+    // An instance among streets far apart can afford a wide one, which lets it reuse the
+    // rule's embedding points instead of storing its own.
+    double tolerance_m = 0.0;
     // Rule edges whose road class differs in this instance: (edge index, class).
     std::vector<std::pair<std::int32_t, HighwayClass>> edge_classes;
     bool operator==(const RuleInstance&) const = default;

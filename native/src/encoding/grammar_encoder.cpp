@@ -104,13 +104,11 @@ struct RuleDraft {
 // Where a rule's nonterminal goes (Fig. 10c): on the vertex that meets the most important
 // outside streets over all occurrences, so that the encoded graph keeps its arterials
 // straight; then the one with most outside streets; then the first.
-int representative_vertex(const GeometricGraph& g, const Adjacency& adj, const Isogroup& group,
-                          const std::vector<std::uint32_t>& chosen) {
-    const std::size_t k = group.order();
+int representative_vertex(const GeometricGraph& g, const Adjacency& adj, const std::vector<std::vector<VertexId>>& occurrences) {
+    const std::size_t k = occurrences.front().size();
     std::vector<double> importance(k, 0.0);
     std::vector<std::size_t> outside(k, 0);
-    for (std::uint32_t o : chosen) {
-        const auto occ = group.occurrence(o);
+    for (const auto& occ : occurrences) {
         for (std::size_t j = 0; j < k; ++j) {
             const VertexId v = occ[j];
             for (auto i = adj.offsets[static_cast<std::size_t>(v)]; i < adj.offsets[static_cast<std::size_t>(v) + 1]; ++i) {
@@ -218,48 +216,64 @@ private:
             const Isogroup& group = ag.group;
             const std::size_t k = group.order();
             if (k < 2 || group.pattern.edges.empty()) continue;
-            std::vector<std::uint32_t> chosen;
+            std::vector<std::vector<VertexId>> occs;
             for (std::uint32_t o : ag.selection.non_overlapping) {
                 const auto occ = group.occurrence(o);
-                if (std::none_of(occ.begin(), occ.end(), [&](VertexId v) { return used[static_cast<std::size_t>(v)]; })) chosen.push_back(o);
+                if (std::none_of(occ.begin(), occ.end(), [&](VertexId v) { return used[static_cast<std::size_t>(v)]; })) {
+                    occs.emplace_back(occ.begin(), occ.end());
+                }
             }
-            if (chosen.size() < options_.analysis.detection.min_count) continue;
+            if (occs.size() < options_.analysis.detection.min_count) continue;
 
-            // Each occurrence's frame, fitted to its vertices; occurrences too far from the
-            // pattern's shape are left for a later level (or the axiom).
+            // Each occurrence's frame, fitted to its vertices (among the pattern's symmetries,
+            // the labelling whose frame turns least from the map's axes, so that the
+            // instances of a symmetric pattern agree on where their vertices are); occurrences
+            // too far from the pattern's shape are left for a later level (or the axiom).
+            const std::vector<IsomorphismMatch> symmetries = geometric_automorphisms(group.pattern, symmetry_options_);
             std::vector<Similarity2> fits;
             std::vector<Vec2> world(k);
             std::size_t kept = 0;
-            for (std::uint32_t o : chosen) {
-                const auto occ = group.occurrence(o);
-                for (std::size_t j = 0; j < k; ++j) world[j] = graph_.positions[static_cast<std::size_t>(occ[j])];
-                const SimilarityFit fit = fit_similarity(group.pattern.positions, world);
-                if (options_.max_shape_error > 0 && fit.rms_residual > options_.max_shape_error * fit.transform.scale()) continue;
-                fits.push_back(fit.transform);
-                chosen[kept++] = o;
+            for (auto& occ : occs) {
+                SimilarityFit best;
+                std::vector<VertexId> labelled = occ, trial(k);
+                double best_turn = std::numeric_limits<double>::infinity();
+                for (const IsomorphismMatch& s : symmetries) {
+                    for (std::size_t j = 0; j < k; ++j) trial[j] = occ[static_cast<std::size_t>(s.mapping[j])];
+                    for (std::size_t j = 0; j < k; ++j) world[j] = graph_.positions[static_cast<std::size_t>(trial[j])];
+                    const SimilarityFit fit = fit_similarity(group.pattern.positions, world);
+                    const double turn = std::abs(fit.transform.angle());
+                    if (turn < best_turn - 1e-9) {
+                        best_turn = turn;
+                        best = fit;
+                        labelled = trial;
+                    }
+                }
+                if (options_.max_shape_error > 0 && best.rms_residual > options_.max_shape_error * best.transform.scale()) continue;
+                fits.push_back(best.transform);
+                occs[kept++] = std::move(labelled); // `labelled` is a copy, never occs[kept] itself
             }
-            lr.shape_rejected += chosen.size() - kept;
-            chosen.resize(kept);
-            if (chosen.size() < options_.analysis.detection.min_count) continue;
+            lr.shape_rejected += occs.size() - kept;
+            occs.resize(kept);
+            if (occs.size() < options_.analysis.detection.min_count) continue;
             std::vector<Frame> transforms(k);
-            const std::size_t before = chosen.size();
-            consistent_frames(group, chosen, fits, transforms);
-            lr.frame_rejected += before - chosen.size();
-            if (chosen.size() < options_.analysis.detection.min_count) continue;
+            const std::size_t before = occs.size();
+            consistent_frames(group, occs, fits, transforms);
+            lr.frame_rejected += before - occs.size();
+            if (occs.size() < options_.analysis.detection.min_count) continue;
             std::size_t outside = 0;
-            for (std::uint32_t o : chosen) {
+            for (const auto& occ : occs) {
                 std::size_t degrees = 0;
-                for (VertexId v : group.occurrence(o)) degrees += adj.degree(v);
+                for (VertexId v : occ) degrees += adj.degree(v);
                 outside += degrees - 2 * group.pattern.edges.size();
             }
-            if (description_gain(k, group.pattern.edges.size(), chosen.size(), outside) <= 0) continue;
+            if (description_gain(k, group.pattern.edges.size(), occs.size(), outside) <= 0) continue;
 
-            const int rep = representative_vertex(graph_, adj, group, chosen);
+            const int rep = representative_vertex(graph_, adj, occs);
             RuleDraft draft;
             draft.level = level;
             Rule& rule = draft.rule;
             rule.symbol = static_cast<Symbol>(rules_.size() + 1);
-            rule.uses = chosen.size();
+            rule.uses = occs.size();
             const Vec2 origin = group.pattern.positions[static_cast<std::size_t>(rep)];
             std::vector<Vec2> shape(k);
             for (std::size_t j = 0; j < k; ++j) {
@@ -272,8 +286,7 @@ private:
             }
             // Road class of each rule edge: the most common among the occurrences.
             std::vector<std::vector<HighwayClass>> classes(group.pattern.edges.size());
-            for (std::uint32_t o : chosen) {
-                const auto occ = group.occurrence(o);
+            for (const auto& occ : occs) {
                 for (std::size_t e = 0; e < group.pattern.edges.size(); ++e) {
                     const auto [a, b] = group.pattern.edges[e];
                     const EdgeId id = edge_between(graph_, adj, occ[static_cast<std::size_t>(a)], occ[static_cast<std::size_t>(b)]);
@@ -286,8 +299,8 @@ private:
                 const auto best = static_cast<HighwayClass>(std::max_element(count.begin(), count.end()) - count.begin());
                 rule.edges.push_back({group.pattern.edges[e][0], group.pattern.edges[e][1], best});
             }
-            for (std::size_t c = 0; c < chosen.size(); ++c) {
-                const auto occ = group.occurrence(chosen[c]);
+            for (std::size_t c = 0; c < occs.size(); ++c) {
+                const auto& occ = occs[c];
                 for (std::size_t j = 0; j < k; ++j) world[j] = graph_.positions[static_cast<std::size_t>(occ[j])];
                 InstanceDraft inst;
                 inst.symbol = rule.symbol;
@@ -310,9 +323,9 @@ private:
                 level_instances.push_back(static_cast<std::int32_t>(instances_.size()));
                 instances_.push_back(std::move(inst));
                 encoded_.push_back(std::move(ri));
-                occurrence_of_.push_back(std::vector<VertexId>(occ.begin(), occ.end()));
+                occurrence_of_.push_back(occ);
             }
-            lr.instances += chosen.size();
+            lr.instances += occs.size();
             ++lr.rules;
             rules_.push_back(std::move(draft));
         }
@@ -327,7 +340,7 @@ private:
     // Keeps the occurrences whose nonterminals sit in the pattern's usual frame, and sets
     // the rule's transform T_i of each nonterminal vertex to that frame (the mean over the
     // occurrences in the most common 30-degree sector).
-    void consistent_frames(const Isogroup& group, std::vector<std::uint32_t>& chosen, std::vector<Similarity2>& fits,
+    void consistent_frames(const Isogroup& group, std::vector<std::vector<VertexId>>& chosen, std::vector<Similarity2>& fits,
                            std::vector<Frame>& transforms) const {
         const std::size_t k = group.order();
         if (chosen.empty()) return;
@@ -341,7 +354,7 @@ private:
                 return std::min<std::size_t>(11, static_cast<std::size_t>(deg / 30.0));
             };
             for (std::size_t c = 0; c < chosen.size(); ++c) {
-                const VertexId v = group.occurrence(chosen[c])[j];
+                const VertexId v = chosen[c][j];
                 relative[c] = linear(graph_.frames[static_cast<std::size_t>(v)]) / linear(fits[c]);
                 ++sectors[sector(relative[c])];
             }
@@ -368,7 +381,7 @@ private:
         std::size_t out = 0;
         for (std::size_t c = 0; c < chosen.size(); ++c) {
             if (!keep[c]) continue;
-            chosen[out] = chosen[c];
+            if (out != c) chosen[out] = std::move(chosen[c]);
             fits[out] = fits[c];
             ++out;
         }
@@ -430,7 +443,15 @@ private:
         }
         Encoding& enc = g.encoding;
         enc.mode = options_.lossless ? "lossless" : "paper";
-        enc.levels = static_cast<int>(result_.levels.size());
+        // Levels of hierarchy: how deep instances nest, so the derivation steps that decode
+        // the axiom (a pass of the analysis may add rules of street vertices only).
+        int depth = 0;
+        for (const InstanceDraft& d : instances_) {
+            int n = 1;
+            for (std::int32_t p = d.parent; p >= 0; p = instances_[static_cast<std::size_t>(p)].parent) ++n;
+            depth = std::max(depth, n);
+        }
+        enc.levels = depth;
         enc.quantum_m = options_.quantum_m;
         // Decoding finds embedding partners and merges vertices within this distance: well
         // below the closest two input vertices, well above the rounding of what is stored.
@@ -488,6 +509,8 @@ private:
         }
         GeometricGraph g = grammar.axiom_graph();
         const DeriveOptions derive_options = decode_options(grammar);
+        placed_positions_.assign(instances_.size(), {});
+        every_position_ = g.positions;
         for (int step = 0; step < enc.levels; ++step) {
             for (std::size_t q = 0; q < g.vertex_count(); ++q) {
                 const std::int32_t id = g.instance_of(static_cast<VertexId>(q));
@@ -512,6 +535,8 @@ private:
             for (std::size_t v = 0; v < placed.size(); ++v) {
                 const Placement& p = placed[v];
                 if (p.instance < 0) continue;
+                placed_positions_[static_cast<std::size_t>(p.instance)].push_back(g.positions[v]);
+                every_position_.push_back(g.positions[v]);
                 const Node& n = instances_[static_cast<std::size_t>(p.instance)].members[static_cast<std::size_t>(p.rule_vertex)];
                 if (n.nonterminal) continue;
                 decoded_[static_cast<std::size_t>(n.id)] = g.positions[v];
@@ -538,6 +563,12 @@ private:
             const std::int32_t p = placer_[static_cast<std::size_t>(v)];
             return p < 0 ? -1 : depth[static_cast<std::size_t>(p)];
         };
+        struct RawLink {
+            std::int32_t vertex;
+            VertexId x, y;
+            HighwayClass highway;
+        };
+        std::vector<std::vector<RawLink>> raw(instances_.size());
         for (std::size_t e = 0; e < input_.edge_count(); ++e) {
             // The end that appears last carries the point (the other is there by then); on a
             // tie, the first end. An edge between two axiom vertices is an axiom edge.
@@ -549,29 +580,85 @@ private:
             const InstanceDraft& d = instances_[static_cast<std::size_t>(inst)];
             std::int32_t j = 0;
             while (d.members[static_cast<std::size_t>(j)].nonterminal || d.members[static_cast<std::size_t>(j)].id != x) ++j;
-            const Similarity2& f = effective_[static_cast<std::size_t>(inst)];
-            // Rounded so that the point errs by at most a fiftieth of the tolerance.
-            const double inverse_step = inverse_power_of_ten(enc.tolerance_m / (50.0 * f.scale()));
-            const Vec2 offset = f.inverse().apply_linear(decoded_[static_cast<std::size_t>(y)] - decoded_[static_cast<std::size_t>(x)]);
-            RuleInstance::Link link;
-            link.vertex = j;
-            link.point.offset = round_to(offset, inverse_step);
-            link.point.highway = input_.edge_highway[e];
-            enc.instances[static_cast<std::size_t>(inst)].embedding.push_back(link);
+            raw[static_cast<std::size_t>(inst)].push_back({j, x, y, input_.edge_highway[e]});
         }
-        // Each rule's own embedding, for placing it by hand: that of its best-joined instance.
+        auto offset_of = [&](std::size_t inst, const RawLink& l) {
+            return effective_[inst].inverse().apply_linear(decoded_[static_cast<std::size_t>(l.y)] - decoded_[static_cast<std::size_t>(l.x)]);
+        };
+        // Each rule's own embedding (for placing it by hand, and for its instances to reuse):
+        // that of its best-joined instance.
         std::vector<std::int32_t> best(grammar.rules.size(), -1);
-        for (std::size_t i = 0; i < enc.instances.size(); ++i) {
+        for (std::size_t i = 0; i < raw.size(); ++i) {
             const std::size_t r = enc.instances[i].symbol - 1;
-            if (best[r] < 0 || enc.instances[i].embedding.size() > enc.instances[static_cast<std::size_t>(best[r])].embedding.size()) {
-                best[r] = static_cast<std::int32_t>(i);
-            }
+            if (best[r] < 0 || raw[i].size() > raw[static_cast<std::size_t>(best[r])].size()) best[r] = static_cast<std::int32_t>(i);
         }
+        std::vector<std::vector<std::pair<std::int32_t, EmbeddingPoint>>> rule_points(grammar.rules.size());
         for (std::size_t r = 0; r < grammar.rules.size(); ++r) {
             if (best[r] < 0) continue;
-            for (const RuleInstance::Link& l : enc.instances[static_cast<std::size_t>(best[r])].embedding) {
-                grammar.rules[r].vertices[static_cast<std::size_t>(l.vertex)].embedding.push_back(l.point);
+            std::vector<RawLink> links = raw[static_cast<std::size_t>(best[r])];
+            std::stable_sort(links.begin(), links.end(), [](const RawLink& a, const RawLink& b) { return a.vertex < b.vertex; });
+            for (const RawLink& l : links) {
+                EmbeddingPoint ep{round_to(offset_of(static_cast<std::size_t>(best[r]), l), 1e4), l.highway};
+                grammar.rules[r].vertices[static_cast<std::size_t>(l.vertex)].embedding.push_back(ep);
+                rule_points[r].emplace_back(l.vertex, ep);
             }
+        }
+        // How far apart things are around each place: the distance from a vertex to the
+        // nearest other vertex the derivation ever has there.
+        namespace bg = boost::geometry;
+        namespace bgi = boost::geometry::index;
+        using Point = bg::model::point<double, 2, bg::cs::cartesian>;
+        std::vector<Point> points;
+        points.reserve(every_position_.size());
+        for (const Vec2& p : every_position_) points.emplace_back(p.x(), p.y());
+        const bgi::rtree<Point, bgi::rstar<16>> tree(points.begin(), points.end());
+        const double same_place = 10 * options_.quantum_m;
+        auto room = [&](const Vec2& p) {
+            for (auto it = tree.qbegin(bgi::nearest(Point(p.x(), p.y()), 4)); it != tree.qend(); ++it) {
+                const double d = std::hypot(bg::get<0>(*it) - p.x(), bg::get<1>(*it) - p.y());
+                if (d > same_place) return d; // nearest first; nearer ones are this vertex itself
+            }
+            return std::numeric_limits<double>::infinity();
+        };
+        for (std::size_t i = 0; i < raw.size(); ++i) {
+            RuleInstance& ri = enc.instances[i];
+            // A quarter of the room around the instance and its partners: no other vertex can
+            // be taken for a partner or merged with one of its vertices.
+            double r = std::numeric_limits<double>::infinity();
+            for (const Vec2& p : placed_positions_[i]) r = std::min(r, room(p));
+            for (const RawLink& l : raw[i]) r = std::min(r, room(decoded_[static_cast<std::size_t>(l.y)]));
+            const double quarter = 0.25 * r;
+            double tolerance = enc.tolerance_m;
+            if (std::isfinite(quarter) && quarter > enc.tolerance_m) {
+                const double unit = std::pow(10.0, std::floor(std::log10(quarter)));
+                tolerance = std::floor(quarter / unit) * unit; // rounded down to one digit
+            }
+            if (tolerance > enc.tolerance_m) ri.tolerance_m = tolerance;
+            const Similarity2& f = effective_[i];
+            const auto& shared = rule_points[ri.symbol - 1];
+            std::vector<char> taken(shared.size(), 0);
+            for (const RawLink& l : raw[i]) {
+                const Vec2 partner = decoded_[static_cast<std::size_t>(l.y)];
+                bool reused = false;
+                for (std::size_t p = 0; p < shared.size() && !reused; ++p) {
+                    if (taken[p] || shared[p].first != l.vertex || shared[p].second.highway != l.highway) continue;
+                    const Vec2 target = decoded_[static_cast<std::size_t>(l.x)] + f.apply_linear(shared[p].second.offset);
+                    if ((target - partner).norm() <= 0.5 * tolerance) {
+                        taken[p] = 1;
+                        ri.rule_points.push_back(static_cast<std::int32_t>(p));
+                        reused = true;
+                    }
+                }
+                if (reused) continue;
+                // Rounded so that the point errs by at most a twentieth of the tolerance.
+                const double inverse_step = inverse_power_of_ten(tolerance / (20.0 * f.scale()));
+                RuleInstance::Link link;
+                link.vertex = l.vertex;
+                link.point.offset = round_to(offset_of(i, l), inverse_step);
+                link.point.highway = l.highway;
+                ri.embedding.push_back(link);
+            }
+            std::sort(ri.rule_points.begin(), ri.rule_points.end());
         }
     }
 
@@ -630,6 +717,11 @@ private:
 
     const GeometricGraph& input_;
     const LearnOptions& options_;
+    IsomorphismOptions symmetry_options_ = [this] {
+        IsomorphismOptions o;
+        o.tolerance = options_.analysis.detection.merge_tolerance;
+        return o;
+    }();
     const ProgressCallback& progress_;
     LearnResult result_;
     double progress_done_ = 0.0;
@@ -645,6 +737,8 @@ private:
     std::vector<Vec2> decoded_;             // per input vertex: where the derivation puts it
     std::vector<char> placed_;
     std::vector<Similarity2> effective_;    // per instance: the frame its rule is placed in
+    std::vector<std::vector<Vec2>> placed_positions_; // per instance: where the derivation places its vertices
+    std::vector<Vec2> every_position_;      // every vertex the derivation ever has
 };
 
 } // namespace

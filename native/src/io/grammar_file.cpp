@@ -35,7 +35,8 @@ json edges_json(const std::vector<GrammarEdge>& edges) {
 
 json encoding_json(const Encoding& enc) {
     json symbol = json::array(), scale = json::array(), rotation = json::array(), shift = json::array(), residuals = json::array(),
-         children = json::array(), embedding = json::array(), classes = json::array();
+         children = json::array(), embedding = json::array(), classes = json::array(), rule_points = json::array(),
+         tolerance = json::array();
     for (const RuleInstance& inst : enc.instances) {
         symbol.push_back(inst.symbol);
         scale.push_back(inst.correction.scale);
@@ -49,6 +50,8 @@ json encoding_json(const Encoding& enc) {
         }
         residuals.push_back(std::move(r));
         children.push_back(inst.children);
+        rule_points.push_back(inst.rule_points);
+        tolerance.push_back(inst.tolerance_m);
         json links = json::array();
         for (const RuleInstance::Link& l : inst.embedding) {
             links.push_back(l.vertex);
@@ -79,6 +82,8 @@ json encoding_json(const Encoding& enc) {
               {"shift", std::move(shift)},
               {"residuals", std::move(residuals)},
               {"children", std::move(children)},
+              {"tolerance_m", std::move(tolerance)},
+              {"rule_points", std::move(rule_points)},
               {"embedding", std::move(embedding)},
               {"edge_classes", std::move(classes)}}}};
 }
@@ -217,6 +222,8 @@ Encoding read_encoding(const Reader& r, const json& doc, std::size_t symbol_coun
     const json& residuals = column("residuals");
     const json& children = column("children");
     const json& embedding = column("embedding");
+    const json& rule_points = column("rule_points");
+    const json& tolerance = column("tolerance_m");
     const json& classes = column("edge_classes");
     enc.instances.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
@@ -233,6 +240,8 @@ Encoding read_encoding(const Reader& r, const json& doc, std::size_t symbol_coun
             ri.residuals.emplace_back(r.number(res[i], "encoding.instances.residuals" + at), r.number(res[i + 1], "encoding.instances.residuals" + at));
         }
         ri.children = integers(children[k], "encoding.instances.children" + at, -1, INT32_MAX);
+        ri.rule_points = integers(rule_points[k], "encoding.instances.rule_points" + at, 0, INT32_MAX);
+        ri.tolerance_m = r.number(tolerance[k], "encoding.instances.tolerance_m" + at);
         const json& links = r.array(embedding[k], "encoding.instances.embedding" + at);
         if (links.size() % 4) r.fail("encoding.instances.embedding" + at, "must hold (vertex, x, y, class) quadruples");
         for (std::size_t i = 0; i < links.size(); i += 4) {

@@ -64,8 +64,11 @@ struct LearnOptions {
 // Throws UsageError naming the first bad option.
 void check_options(const LearnOptions& options);
 
+// One pass of the encoder: an analysis of the current graph and the rules it yields. The
+// rules of pass n place nonterminals of earlier passes, so the grammar's levels of
+// hierarchy (Encoding::levels, how deep instances nest) are at most the number of passes.
 struct LevelReport {
-    int level = 0;                // 1 = the first encoding of the input
+    int level = 0;                // pass, 1 = the first encoding of the input
     std::size_t vertices = 0;     // of the graph analysed at this level
     std::size_t edges = 0;
     std::size_t rules = 0;        // rules emitted at this level

@@ -1,0 +1,316 @@
+// Grammar learning (paper 6): lossless round trips on every real extract, the quantisation
+// error of paper mode against the grid resolution (Fig. 11), file round trips, determinism,
+// levels of the hierarchy, and bad input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include "analysis_fixtures.hpp"
+#include "fixtures.hpp"
+#include "ggg/encoding/decoding.hpp"
+#include "ggg/encoding/grammar_encoder.hpp"
+#include "ggg/error.hpp"
+#include "ggg/io/grammar_file.hpp"
+#include "ggg/io/read_graph.hpp"
+
+namespace ggg {
+namespace {
+
+using test::GridOptions;
+
+GeometricGraph read_all(const std::string& path) {
+    ImportOptions o;
+    o.highways = HighwayFilter::all();
+    return read_graph(path, o);
+}
+
+// What a second reader of the grammar file sees: the grammar written and parsed again.
+Grammar through_file(const Grammar& g) { return grammar_from_json(nlohmann::json::parse(grammar_to_json(g).dump()), "reread"); }
+
+// Checks, without the encoder's own bookkeeping, that `decoded` is `input`: every decoded
+// vertex within `tolerance` of exactly one input vertex (one to one), the same edges
+// between them, each with its road class. Returns the largest displacement.
+double expect_same_streets(const GeometricGraph& input, const GeometricGraph& decoded, double tolerance) {
+    EXPECT_EQ(decoded.vertex_count(), input.vertex_count());
+    EXPECT_EQ(decoded.edge_count(), input.edge_count());
+    const double cell = 1.0;
+    auto key = [&](const Vec2& p) {
+        return std::make_pair(static_cast<long long>(std::floor(p.x() / cell)), static_cast<long long>(std::floor(p.y() / cell)));
+    };
+    std::map<std::pair<long long, long long>, std::vector<VertexId>> grid;
+    for (std::size_t v = 0; v < input.vertex_count(); ++v) grid[key(input.positions[v])].push_back(static_cast<VertexId>(v));
+    std::vector<VertexId> match(decoded.vertex_count(), -1);
+    std::vector<char> taken(input.vertex_count(), 0);
+    double worst = 0.0;
+    for (std::size_t v = 0; v < decoded.vertex_count(); ++v) {
+        const Vec2& p = decoded.positions[v];
+        const auto [cx, cy] = key(p);
+        double best = tolerance;
+        for (long long dx = -1; dx <= 1; ++dx) {
+            for (long long dy = -1; dy <= 1; ++dy) {
+                const auto it = grid.find({cx + dx, cy + dy});
+                if (it == grid.end()) continue;
+                for (VertexId u : it->second) {
+                    const double d = (input.positions[static_cast<std::size_t>(u)] - p).norm();
+                    if (d <= best) {
+                        best = d;
+                        match[v] = u;
+                    }
+                }
+            }
+        }
+        if (match[v] < 0) {
+            ADD_FAILURE() << "decoded vertex " << v << " at (" << p.x() << ", " << p.y() << ") is not within " << tolerance
+                          << " m of an input vertex";
+            return worst;
+        }
+        if (taken[static_cast<std::size_t>(match[v])]++) {
+            ADD_FAILURE() << "two decoded vertices on input vertex " << match[v];
+            return worst;
+        }
+        worst = std::max(worst, best);
+    }
+    std::map<std::pair<VertexId, VertexId>, HighwayClass> expected;
+    for (std::size_t e = 0; e < input.edge_count(); ++e) {
+        const auto [a, b] = input.edges[e];
+        expected[{std::min(a, b), std::max(a, b)}] = input.edge_highway[e];
+    }
+    std::size_t wrong = 0;
+    for (std::size_t e = 0; e < decoded.edge_count(); ++e) {
+        const VertexId a = match[static_cast<std::size_t>(decoded.edges[e][0])];
+        const VertexId b = match[static_cast<std::size_t>(decoded.edges[e][1])];
+        const auto it = expected.find({std::min(a, b), std::max(a, b)});
+        if (it == expected.end() || it->second != decoded.edge_highway[e]) ++wrong;
+        else expected.erase(it);
+    }
+    EXPECT_EQ(wrong, 0u) << "decoded edges that are not input edges (or have another road class)";
+    EXPECT_TRUE(expected.empty()) << expected.size() << " input edges are missing from the decoded graph";
+    return worst;
+}
+
+std::string test_name(const testing::TestParamInfo<std::string>& info) {
+    std::string name = std::filesystem::path(info.param).filename().string();
+    std::replace_if(name.begin(), name.end(), [](char ch) { return !std::isalnum(static_cast<unsigned char>(ch)); }, '_');
+    return name;
+}
+
+class LosslessCorpus : public testing::TestWithParam<std::string> {};
+
+} // namespace
+
+// Lossless mode: decode(encode(G)) has exactly G's edges and every vertex within 1e-6 m,
+// checked on the grammar as a second program would read it from the file.
+TEST_P(LosslessCorpus, DecodesToExactlyTheInput) {
+    const GeometricGraph input = read_all(GetParam());
+    LearnOptions options;
+    options.lossless = true;
+    const LearnResult result = learn_grammar(input, options);
+    ASSERT_GT(result.grammar.rules.size(), 0u) << "nothing repeats in a real city?";
+    EXPECT_TRUE(result.roundtrip.edges_equal);
+    EXPECT_TRUE(result.roundtrip.classes_equal);
+    EXPECT_LE(result.roundtrip.max_displacement_m, 1e-6);
+    const GeometricGraph decoded = decode_grammar(through_file(result.grammar));
+    EXPECT_LE(expect_same_streets(input, decoded, 1e-6), 1e-6);
+    // The levels are the rules' nesting: the derivation needs exactly that many steps.
+    const std::vector<int> levels = rule_levels(result.grammar);
+    EXPECT_EQ(*std::max_element(levels.begin(), levels.end()), result.grammar.encoding.levels);
+    EXPECT_LE(static_cast<std::size_t>(result.grammar.encoding.levels), result.levels.size());
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedOsm, LosslessCorpus, testing::ValuesIn(test::corpus_files()), test_name);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(LosslessCorpus);
+
+TEST(GrammarLearning, TheCorpusIsThere) {
+    GGG_REQUIRE_CORPUS();
+    EXPECT_GE(test::corpus_files().size(), 19u);
+}
+
+// Paper mode keeps the rules' shared geometry only, so positions carry the error of the
+// rules' shapes; a finer expansion grid groups tighter copies and shrinks it (Fig. 11).
+TEST(GrammarLearning, PaperModeErrorShrinksWithAFinerGrid) {
+    double coarse_total = 0.0, fine_total = 0.0;
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+        GridOptions grid;
+        grid.n = 16;
+        grid.jitter = 0.06;
+        grid.angle_rad = 0.3;
+        grid.seed = seed;
+        const GeometricGraph g = test::make_grid(grid);
+        LearnOptions coarse;
+        coarse.max_shape_error = 0.0; // every copy the grid groups, as the paper encodes them
+        coarse.analysis.detection.angle_cells = 12;
+        coarse.analysis.detection.distance_cells = 10;
+        LearnOptions fine = coarse;
+        fine.analysis.detection.angle_cells = 24;
+        fine.analysis.detection.distance_cells = 20;
+        const LearnResult a = learn_grammar(g, coarse);
+        const LearnResult b = learn_grammar(g, fine);
+        ASSERT_GT(a.grammar.encoding.instances.size(), 20u);
+        ASSERT_GT(b.grammar.encoding.instances.size(), 20u);
+        EXPECT_TRUE(a.roundtrip.edges_equal);
+        EXPECT_TRUE(b.roundtrip.edges_equal);
+        EXPECT_GT(a.roundtrip.mean_displacement_m, 0.0);
+        coarse_total += a.roundtrip.mean_displacement_m;
+        fine_total += b.roundtrip.mean_displacement_m;
+    }
+    EXPECT_LT(fine_total, coarse_total);
+}
+
+// A regular grid is what a grammar compresses best: smaller than the graph in both modes.
+TEST(GrammarLearning, AGridCityEncodesSmallerThanItsGraph) {
+    GridOptions grid;
+    grid.n = 30;
+    grid.jitter = 0.01;
+    const GeometricGraph g = test::make_grid(grid);
+    for (bool lossless : {false, true}) {
+        LearnOptions o;
+        o.lossless = lossless;
+        const LearnResult r = learn_grammar(g, o);
+        EXPECT_TRUE(r.roundtrip.edges_equal);
+        EXPECT_LT(r.encoded_bytes, r.original_bytes) << (lossless ? "lossless" : "paper");
+        EXPECT_EQ(r.original_bytes, graph_structure_bytes(g, o.quantum_m));
+        EXPECT_EQ(r.encoded_bytes, grammar_to_json(r.grammar).dump().size() + 1);
+    }
+}
+
+TEST(GrammarLearning, ALearnedGrammarDecodesIdenticallyAfterAJsonRoundTrip) {
+    GGG_REQUIRE_CORPUS();
+    const GeometricGraph input = read_all(test::shared_osm_dir() + "/paris_marais.osm.pbf");
+    for (bool lossless : {false, true}) {
+        LearnOptions o;
+        o.lossless = lossless;
+        const Grammar grammar = learn_grammar(input, o).grammar;
+        const std::string path = test::temp_path(".json");
+        write_grammar(grammar, path);
+        const Grammar back = read_grammar(path);
+        EXPECT_TRUE(back == grammar);
+        const GeometricGraph a = decode_grammar(grammar);
+        const GeometricGraph b = decode_grammar(back);
+        EXPECT_EQ(a.positions, b.positions);
+        EXPECT_EQ(a.edges, b.edges);
+        EXPECT_EQ(a.edge_highway, b.edge_highway);
+    }
+}
+
+TEST(GrammarLearning, DeterministicWhateverTheThreadCount) {
+    GGG_REQUIRE_CORPUS();
+    const GeometricGraph input = read_all(test::shared_osm_dir() + "/barcelona_eixample.osm");
+    LearnOptions o;
+    o.lossless = true;
+    const std::string all = grammar_to_json(learn_grammar(input, o).grammar).dump();
+    std::string one;
+    {
+        tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+        one = grammar_to_json(learn_grammar(input, o).grammar).dump();
+    }
+    EXPECT_EQ(all, grammar_to_json(learn_grammar(input, o).grammar).dump());
+    EXPECT_EQ(all, one);
+}
+
+// The graph of each level: level 0 is the streets, the top level the axiom; every level
+// keeps the streets' connections between the vertices standing for them.
+TEST(GrammarLearning, EncodedGraphsOfEachLevel) {
+    GridOptions grid;
+    grid.n = 30;
+    grid.jitter = 0.01;
+    const GeometricGraph g = test::make_grid(grid);
+    const LearnResult r = learn_grammar(g);
+    const Grammar& grammar = r.grammar;
+    ASSERT_GE(grammar.encoding.levels, 1);
+    const GeometricGraph streets = decode_grammar(grammar);
+    std::size_t previous = streets.vertex_count() + 1;
+    for (int level = 0; level <= grammar.encoding.levels; ++level) {
+        std::vector<VertexId> image;
+        const GeometricGraph l = encoded_graph(grammar, level, {}, &image);
+        ASSERT_EQ(image.size(), streets.vertex_count());
+        EXPECT_LT(l.vertex_count(), previous) << "level " << level << " is no smaller than the one below";
+        previous = l.vertex_count();
+        // Each street edge either folds into one vertex or joins the images of its ends.
+        std::set<std::pair<VertexId, VertexId>> edges;
+        for (const auto& [a, b] : l.edges) edges.insert({std::min(a, b), std::max(a, b)});
+        for (const auto& [a, b] : streets.edges) {
+            const VertexId x = image[static_cast<std::size_t>(a)], y = image[static_cast<std::size_t>(b)];
+            ASSERT_GE(x, 0);
+            ASSERT_GE(y, 0);
+            if (x != y) EXPECT_TRUE(edges.count({std::min(x, y), std::max(x, y)}));
+        }
+        if (level == grammar.encoding.levels) {
+            EXPECT_EQ(l.vertex_count(), grammar.axiom_vertices.size());
+            EXPECT_EQ(l.edge_count(), r.axiom_edges);
+        }
+    }
+    EXPECT_THROW(encoded_graph(grammar, grammar.encoding.levels + 1), UsageError);
+    EXPECT_THROW(encoded_graph(grammar, -1), UsageError);
+}
+
+TEST(GrammarLearning, ProgressPerLevelAndCancel) {
+    GridOptions grid;
+    grid.n = 12;
+    const GeometricGraph g = test::make_grid(grid);
+    std::vector<double> fractions;
+    learn_grammar(g, {}, [&](double f, std::string_view) {
+        fractions.push_back(f);
+        return true;
+    });
+    ASSERT_FALSE(fractions.empty());
+    EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+    EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+    int calls = 0;
+    EXPECT_THROW(learn_grammar(g, {}, [&](double, std::string_view) { return ++calls < 5; }), Cancelled);
+}
+
+TEST(GrammarLearning, BadInputIsAClearError) {
+    GeometricGraph empty;
+    empty.add_vertex({0, 0});
+    EXPECT_THROW(learn_grammar(empty), InputError);
+    LearnOptions o;
+    o.quantum_m = 3e-7;
+    EXPECT_THROW(learn_grammar(test::make_grid({}), o), UsageError);
+    o = {};
+    o.analysis.seed = {0, 1};
+    EXPECT_THROW(learn_grammar(test::make_grid({}), o), UsageError);
+
+    // A hand-written grammar is derived, not decoded.
+    const Grammar sierpinski = read_grammar(std::string(GGG_SAMPLES_DIR) + "/sierpinski.grammar.json");
+    EXPECT_THROW(decode_grammar(sierpinski), GrammarError);
+}
+
+TEST(GrammarLearning, MalformedEncodingsNameThePlace) {
+    const Grammar good = learn_grammar(test::make_grid({})).grammar;
+    ASSERT_GT(good.encoding.instances.size(), 2u);
+    auto expect_error = [&](auto edit, const std::string& where) {
+        nlohmann::json doc = grammar_to_json(good);
+        edit(doc);
+        try {
+            grammar_from_json(doc, "bad.json");
+            ADD_FAILURE() << "no error for " << where;
+        } catch (const GrammarError& e) {
+            EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+        }
+    };
+    expect_error([](nlohmann::json& d) { d["encoding"]["axiom_instances"].back() = 100000; }, "encoding.axiom_instances");
+    expect_error([](nlohmann::json& d) {
+        auto& a = d["encoding"]["axiom_instances"];
+        std::int64_t first = -1;
+        for (auto& v : a) {
+            if (v.get<std::int64_t>() < 0) continue;
+            if (first < 0) first = v.get<std::int64_t>();
+            else v = first; // one instance rewritten twice
+        }
+    }, "used twice");
+    expect_error([](nlohmann::json& d) { d["encoding"]["instances"]["residuals"][0] = nlohmann::json::array({1.0}); }, "residuals");
+    expect_error([](nlohmann::json& d) { d["encoding"]["instances"]["scale"].erase(0); }, "encoding.instances.scale");
+    expect_error([](nlohmann::json& d) { d["encoding"]["instances"]["embedding"][0] = nlohmann::json::array({99, 0.0, 0.0, 6}); }, "rule vertex out of range");
+    expect_error([](nlohmann::json& d) { d["encoding"]["mode"] = "zip"; }, "encoding.mode");
+    expect_error([](nlohmann::json& d) { d["encoding"]["instances"]["symbol"][0] = 0; }, "encoding.instances.symbol");
+}
+
+} // namespace ggg
