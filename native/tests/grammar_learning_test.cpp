@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -311,6 +312,51 @@ TEST(GrammarLearning, MalformedEncodingsNameThePlace) {
     expect_error([](nlohmann::json& d) { d["encoding"]["instances"]["embedding"][0] = nlohmann::json::array({99, 0.0, 0.0, 6}); }, "rule vertex out of range");
     expect_error([](nlohmann::json& d) { d["encoding"]["mode"] = "zip"; }, "encoding.mode");
     expect_error([](nlohmann::json& d) { d["encoding"]["instances"]["symbol"][0] = 0; }, "encoding.instances.symbol");
+}
+
+} // namespace ggg
+
+namespace ggg {
+
+// `ggg learn` writes the grammar and prints the stats the issue fixes; `ggg decode` turns
+// the file back into streets; bad input and usage end in a message and exit codes 1 and 2.
+TEST(GrammarLearningCli, LearnThenDecode) {
+    const std::string sample = std::string(GGG_SAMPLES_DIR) + "/sample_city.osm";
+    const std::string grammar = test::temp_path(".json");
+    const std::string stats = test::temp_path(".json");
+    const test::CliResult learned = test::run_cli("learn " + sample + " --highways all --lossless -o " + grammar + " --stats " + stats);
+    ASSERT_EQ(learned.code, 0) << learned.err;
+    const nlohmann::json out = nlohmann::json::parse(learned.out);
+    for (const char* key : {"input", "rules", "levels", "axiom", "seconds", "bytes", "roundtrip"}) EXPECT_TRUE(out.contains(key)) << key;
+    for (const char* key : {"import", "analysis", "encoding", "total"}) EXPECT_GE(out["seconds"][key].get<double>(), 0.0) << key;
+    EXPECT_TRUE(out["roundtrip"]["edges_equal"].get<bool>());
+    EXPECT_LE(out["roundtrip"]["max_displacement_m"].get<double>(), 1e-6);
+    EXPECT_GT(out["bytes"]["original"].get<std::size_t>(), 0u);
+    EXPECT_EQ(out["bytes"]["encoded"].get<std::size_t>(), std::filesystem::file_size(grammar));
+    EXPECT_EQ(nlohmann::json::parse(std::ifstream(stats))["rules"], out["rules"]);
+    EXPECT_NE(learned.err.find("level 1"), std::string::npos) << "progress on stderr";
+
+    const std::string streets = test::temp_path(".geojson");
+    const test::CliResult decoded = test::run_cli("decode " + grammar + " -o " + streets);
+    ASSERT_EQ(decoded.code, 0) << decoded.err;
+    const nlohmann::json d = nlohmann::json::parse(decoded.out);
+    EXPECT_EQ(d["vertices"], out["input"]["vertices"]);
+    EXPECT_EQ(d["edges"], out["input"]["edges"]);
+    const GeometricGraph back = read_graph(streets);
+    EXPECT_EQ(back.edge_count(), out["input"]["edges"].get<std::size_t>());
+
+    const test::CliResult top = test::run_cli("decode " + grammar + " --level " + std::to_string(out["levels"].get<int>()) + " -o " + streets);
+    ASSERT_EQ(top.code, 0) << top.err;
+    EXPECT_EQ(nlohmann::json::parse(top.out)["vertices"], out["axiom"]["vertices"]);
+
+    EXPECT_EQ(test::run_cli("decode " + grammar + " --level 999 -o " + streets).code, 2);
+    EXPECT_EQ(test::run_cli("decode " + std::string(GGG_SAMPLES_DIR) + "/sierpinski.grammar.json -o " + streets).code, 1);
+    EXPECT_EQ(test::run_cli("learn /nonexistent.osm -o " + grammar).code, 1);
+    EXPECT_EQ(test::run_cli("learn " + sample + " --levels -3 -o " + grammar).code, 2);
+    const std::string truncated = test::temp_file(learned.out.substr(0, 10), ".json");
+    const test::CliResult bad = test::run_cli("decode " + truncated + " -o " + streets);
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_NE(bad.err.find("error:"), std::string::npos);
 }
 
 } // namespace ggg
