@@ -18,6 +18,10 @@ fi
 if [ -f "$root/scripts/make_figures.py" ]; then
   GGG_MODULE_DIR="$build/python" /usr/bin/python3 "$root/scripts/make_figures.py" --out-dir "$out"
 fi
+# Grammar learning (docs/learning.md): the levels of an encoding and paper against lossless mode.
+learn_osm=()
+[ -f "$root/../shared/osm/paris_marais.osm.pbf" ] && learn_osm=(--osm "$root/../shared/osm/paris_marais.osm.pbf")
+GGG_MODULE_DIR="$build/python" /usr/bin/python3 "$root/scripts/make_learning_figures.py" --out-dir "$out" "${learn_osm[@]}"
 if [ -f "$root/scripts/render_grammar_demo.py" ]; then
   GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
     --python "$root/scripts/render_grammar_demo.py" -- "$out/sierpinski_blender.png" >/dev/null
