@@ -71,6 +71,7 @@ public:
     // The nearest vertex within `tolerance` of p that passes `accept`, or -1.
     template <typename Accept>
     VertexId nearest(const Vec2& p, double tolerance, Accept accept) const {
+        if (tolerance < 0) return -1;
         const BoostBox box(BoostPoint(p.x() - tolerance, p.y() - tolerance), BoostPoint(p.x() + tolerance, p.y() + tolerance));
         VertexId best = -1;
         double best_distance = tolerance;
@@ -255,7 +256,9 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
             child.t = p;
             const std::int32_t child_instance = w.instance && !w.instance->children.empty() ? w.instance->children[i] : -1;
             bool merged = false;
-            const VertexId v = builder.place(p, rv.symbol, child, rv.symbol ? child_instance : -1, tolerance, merged);
+            // The vertices of a learned instance are distinct from every other by construction:
+            // they never merge (a merge could only lose a street).
+            const VertexId v = builder.place(p, rv.symbol, child, rv.symbol ? child_instance : -1, w.instance ? -1.0 : tolerance, merged);
             w.ids.push_back(v);
             w.positions.push_back(p);
             report.merged_vertices += merged;

@@ -20,6 +20,7 @@
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/rewriting.hpp"
 #include "ggg/selection/isogroup_selection.hpp"
+#include "ggg/selection/non_overlapping.hpp"
 #include "../io/json_util.hpp"
 
 namespace ggg {
@@ -79,8 +80,6 @@ double closest_pair_distance(const std::vector<Vec2>& positions) {
 Frame frame_of(Complex z) { return {round_significant(std::abs(z), 4), round_to(std::arg(z) * 180.0 / M_PI, 100)}; }
 Frame correction_of(Complex z) { return {round_significant(std::abs(z), 7), round_to(std::arg(z) * 180.0 / M_PI, 1e5)}; }
 
-double angle_between_deg(Complex a, Complex b) { return std::abs(std::arg(a / b)) * 180.0 / M_PI; }
-
 // A vertex of a level's graph: a street vertex of the input, or a nonterminal standing for
 // an instance.
 struct Node {
@@ -101,29 +100,46 @@ struct RuleDraft {
     int level = 0;
 };
 
-// Where a rule's nonterminal goes (Fig. 10c): on the vertex that meets the most important
-// outside streets over all occurrences, so that the encoded graph keeps its arterials
-// straight; then the one with most outside streets; then the first.
-int representative_vertex(const GeometricGraph& g, const Adjacency& adj, const std::vector<std::vector<VertexId>>& occurrences) {
-    const std::size_t k = occurrences.front().size();
-    std::vector<double> importance(k, 0.0);
-    std::vector<std::size_t> outside(k, 0);
-    for (const auto& occ : occurrences) {
-        for (std::size_t j = 0; j < k; ++j) {
-            const VertexId v = occ[j];
-            for (auto i = adj.offsets[static_cast<std::size_t>(v)]; i < adj.offsets[static_cast<std::size_t>(v) + 1]; ++i) {
-                const VertexId w = adj.neighbors[static_cast<std::size_t>(i)];
-                if (std::find(occ.begin(), occ.end(), w) != occ.end()) continue;
-                importance[j] += 1.0 / highway_rank(g.edge_highway[static_cast<std::size_t>(adj.edge_ids[static_cast<std::size_t>(i)])]);
-                ++outside[j];
-            }
+// How much the outside streets of each vertex of an occurrence matter: 1 / rank summed over
+// the streets that leave the occurrence there.
+std::vector<double> outside_importance(const GeometricGraph& g, const Adjacency& adj, const std::vector<VertexId>& occ) {
+    std::vector<double> importance(occ.size(), 0.0);
+    for (std::size_t j = 0; j < occ.size(); ++j) {
+        const VertexId v = occ[j];
+        for (auto i = adj.offsets[static_cast<std::size_t>(v)]; i < adj.offsets[static_cast<std::size_t>(v) + 1]; ++i) {
+            const VertexId w = adj.neighbors[static_cast<std::size_t>(i)];
+            if (std::find(occ.begin(), occ.end(), w) != occ.end()) continue;
+            importance[j] += 1.0 / highway_rank(g.edge_highway[static_cast<std::size_t>(adj.edge_ids[static_cast<std::size_t>(i)])]);
         }
     }
-    int best = 0;
-    for (std::size_t j = 1; j < k; ++j) {
-        if (importance[j] > importance[static_cast<std::size_t>(best)] + 1e-12 ||
-            (std::abs(importance[j] - importance[static_cast<std::size_t>(best)]) <= 1e-12 && outside[j] > outside[static_cast<std::size_t>(best)])) {
-            best = static_cast<int>(j);
+    return importance;
+}
+
+// The rule's origin: the vertex that meets the most important outside streets over all
+// occurrences (then the first).
+int representative_vertex(const GeometricGraph& g, const Adjacency& adj, const std::vector<std::vector<VertexId>>& occurrences) {
+    std::vector<double> total(occurrences.front().size(), 0.0);
+    for (const auto& occ : occurrences) {
+        const std::vector<double> importance = outside_importance(g, adj, occ);
+        for (std::size_t j = 0; j < total.size(); ++j) total[j] += importance[j];
+    }
+    return static_cast<int>(std::max_element(total.begin(), total.end()) - total.begin());
+}
+
+// Where an occurrence's nonterminal goes (Fig. 10c): on its vertex that meets the most
+// important outside streets, so that the encoded graph keeps its arterials straight; among
+// equals the south-westernmost, a choice that does not depend on how the occurrence's
+// vertices are labelled, so that the nonterminals of a regular district form a regular
+// pattern themselves, which the next level can encode.
+std::size_t nonterminal_vertex(const GeometricGraph& g, const Adjacency& adj, const std::vector<VertexId>& occ) {
+    const std::vector<double> importance = outside_importance(g, adj, occ);
+    const double most = *std::max_element(importance.begin(), importance.end());
+    std::size_t best = occ.size();
+    for (std::size_t j = 0; j < occ.size(); ++j) {
+        if (importance[j] < most - 1e-9) continue;
+        const Vec2& p = g.positions[static_cast<std::size_t>(occ[j])];
+        if (best == occ.size() || p.x() + p.y() < g.positions[static_cast<std::size_t>(occ[best])].x() + g.positions[static_cast<std::size_t>(occ[best])].y()) {
+            best = j;
         }
     }
     return best;
@@ -216,8 +232,9 @@ private:
             const Isogroup& group = ag.group;
             const std::size_t k = group.order();
             if (k < 2 || group.pattern.edges.empty()) continue;
+            if (ag.selection.non_overlapping.size() < options_.analysis.detection.min_count) continue;
             std::vector<std::vector<VertexId>> occs;
-            for (std::uint32_t o : ag.selection.non_overlapping) {
+            for (std::size_t o = 0; o < group.frequency(); ++o) {
                 const auto occ = group.occurrence(o);
                 if (std::none_of(occ.begin(), occ.end(), [&](VertexId v) { return used[static_cast<std::size_t>(v)]; })) {
                     occs.emplace_back(occ.begin(), occ.end());
@@ -254,6 +271,8 @@ private:
             }
             lr.shape_rejected += occs.size() - kept;
             occs.resize(kept);
+            fits.resize(kept);
+            choose_aligned(occs, fits, static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
             if (occs.size() < options_.analysis.detection.min_count) continue;
             std::vector<Frame> transforms(k);
             const std::size_t before = occs.size();
@@ -306,7 +325,7 @@ private:
                 inst.symbol = rule.symbol;
                 inst.fit = fit_similarity(shape, world).transform;
                 inst.frame = inst.fit;
-                inst.frame.t = world[static_cast<std::size_t>(rep)];
+                inst.frame.t = world[nonterminal_vertex(graph_, adj, occ)];
                 for (std::size_t j = 0; j < k; ++j) {
                     const Node n = nodes_[static_cast<std::size_t>(occ[j])];
                     inst.members.push_back(n);
@@ -328,6 +347,7 @@ private:
             lr.instances += occs.size();
             ++lr.rules;
             rules_.push_back(std::move(draft));
+            rotations_.push_back(static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
         }
         if (level_instances.empty()) return false;
         contract(level_instances, used);
@@ -335,6 +355,57 @@ private:
         lr.seconds = seconds_since(level_start);
         result_.levels.push_back(lr);
         return true;
+    }
+
+    // The occurrences to encode: a largest set that shares no vertex, taken first among the
+    // occurrences turned like most of them (modulo the pattern's n-fold symmetry), then among
+    // the others. A district tiled by copies that all face one way is regular again one
+    // level up, where a tiling of mixed orientations is not.
+    void choose_aligned(std::vector<std::vector<VertexId>>& occs, std::vector<Similarity2>& fits, int n) const {
+        if (occs.empty()) return;
+        const std::size_t k = occs.front().size();
+        auto folded = [n](const Similarity2& f) { return std::pow(Complex(f.a, f.b) / f.scale(), n); };
+        std::array<std::size_t, 12> sectors{};
+        auto sector = [&](Complex z) { return std::min<std::size_t>(11, static_cast<std::size_t>((std::arg(z) + M_PI) / (M_PI / 6))); };
+        for (const Similarity2& f : fits) ++sectors[sector(folded(f))];
+        const std::size_t mode = static_cast<std::size_t>(std::max_element(sectors.begin(), sectors.end()) - sectors.begin());
+        Complex direction = 0.0;
+        for (const Similarity2& f : fits) {
+            const std::size_t s = sector(folded(f));
+            if (s == mode || s == (mode + 1) % 12 || s == (mode + 11) % 12) direction += folded(f);
+        }
+        std::vector<std::size_t> aligned, others;
+        for (std::size_t c = 0; c < occs.size(); ++c) {
+            const double turn = std::abs(std::arg(folded(fits[c]) / direction)); // in the n-fold cover
+            (turn <= M_PI / 6 ? aligned : others).push_back(c);
+        }
+        std::vector<std::size_t> chosen;
+        std::vector<char> taken(graph_.vertex_count(), 0);
+        SelectionOptions quick;
+        quick.prove = false;
+        for (const std::vector<std::size_t>* part : {&aligned, &others}) {
+            std::vector<std::size_t> free;
+            for (std::size_t c : *part) {
+                if (std::none_of(occs[c].begin(), occs[c].end(), [&](VertexId v) { return taken[static_cast<std::size_t>(v)]; })) free.push_back(c);
+            }
+            if (free.empty()) continue;
+            std::vector<VertexId> flat;
+            flat.reserve(free.size() * k);
+            for (std::size_t c : free) flat.insert(flat.end(), occs[c].begin(), occs[c].end());
+            for (std::uint32_t i : select_non_overlapping(flat, k, quick).chosen) {
+                chosen.push_back(free[i]);
+                for (VertexId v : occs[free[i]]) taken[static_cast<std::size_t>(v)] = 1;
+            }
+        }
+        std::sort(chosen.begin(), chosen.end());
+        std::vector<std::vector<VertexId>> kept_occs;
+        std::vector<Similarity2> kept_fits;
+        for (std::size_t c : chosen) {
+            kept_occs.push_back(std::move(occs[c]));
+            kept_fits.push_back(fits[c]);
+        }
+        occs = std::move(kept_occs);
+        fits = std::move(kept_fits);
     }
 
     // Keeps the occurrences whose nonterminals sit in the pattern's usual frame, and sets
@@ -346,11 +417,16 @@ private:
         if (chosen.empty()) return;
         std::vector<char> keep(chosen.size(), 1);
         for (std::size_t j = 0; j < k; ++j) {
-            if (group.pattern.symbols[j] == 0) continue;
+            const Symbol symbol = group.pattern.symbols[j];
+            if (symbol == 0) continue;
+            // A nonterminal whose rule has n-fold symmetry looks the same turned by 360/n
+            // degrees: frames are compared in the n-fold cover (angles times n).
+            const int n = rotations_[symbol - 1];
             std::vector<Complex> relative(chosen.size());
             std::array<std::size_t, 12> sectors{};
-            auto sector = [](Complex z) {
-                const double deg = std::arg(z) * 180.0 / M_PI + 180.0;
+            auto folded = [n](Complex z) { return std::pow(z / std::abs(z), n); };
+            auto sector = [&](Complex z) {
+                const double deg = std::arg(folded(z)) * 180.0 / M_PI + 180.0;
                 return std::min<std::size_t>(11, static_cast<std::size_t>(deg / 30.0));
             };
             for (std::size_t c = 0; c < chosen.size(); ++c) {
@@ -363,17 +439,18 @@ private:
             std::vector<double> scales;
             for (std::size_t c = 0; c < chosen.size(); ++c) {
                 if (sector(relative[c]) != mode) continue;
-                direction += relative[c] / std::abs(relative[c]);
+                direction += folded(relative[c]);
                 scales.push_back(std::abs(relative[c]));
             }
             std::nth_element(scales.begin(), scales.begin() + static_cast<long>(scales.size() / 2), scales.end());
-            const Complex reference = std::polar(scales[scales.size() / 2], std::arg(direction));
+            const Complex reference = std::polar(scales[scales.size() / 2], std::arg(direction) / n);
             transforms[j] = frame_of(reference);
             for (std::size_t c = 0; c < chosen.size(); ++c) {
                 const double ratio = std::abs(relative[c]) / std::abs(reference);
+                const double turn = std::abs(std::arg(folded(relative[c]) / folded(reference))) * 180.0 / M_PI / n;
                 if (options_.frame_tolerance_deg > 0 &&
-                    (angle_between_deg(relative[c], reference) > options_.frame_tolerance_deg ||
-                     ratio > options_.frame_scale_tolerance || ratio < 1.0 / options_.frame_scale_tolerance)) {
+                    (turn > options_.frame_tolerance_deg || ratio > options_.frame_scale_tolerance ||
+                     ratio < 1.0 / options_.frame_scale_tolerance)) {
                     keep[c] = 0;
                 }
             }
@@ -457,6 +534,10 @@ private:
         // below the closest two input vertices, well above the rounding of what is stored.
         const double closest = closest_pair_distance(input_.positions);
         enc.tolerance_m = std::max(round_significant(0.25 * closest, 1), 100 * options_.quantum_m);
+        // In paper mode vertices decode away from where they were, possibly towards each
+        // other: the shared tolerance stays small, and each instance gets the room its
+        // decoded surroundings leave (embed).
+        if (!options_.lossless) enc.tolerance_m = std::min(enc.tolerance_m, std::max(1e-3, 100 * options_.quantum_m));
         placer_.assign(input_.vertex_count(), -1);
         axiom_index_.assign(input_.vertex_count(), -1);
         for (std::size_t i = 0; i < instances_.size(); ++i) {
@@ -509,8 +590,10 @@ private:
         }
         GeometricGraph g = grammar.axiom_graph();
         const DeriveOptions derive_options = decode_options(grammar);
-        placed_positions_.assign(instances_.size(), {});
-        every_position_ = g.positions;
+        step_nonterminals_.assign(1, {});
+        for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+            if (g.symbols[v]) step_nonterminals_[0].push_back(g.positions[v]);
+        }
         for (int step = 0; step < enc.levels; ++step) {
             for (std::size_t q = 0; q < g.vertex_count(); ++q) {
                 const std::int32_t id = g.instance_of(static_cast<VertexId>(q));
@@ -532,11 +615,11 @@ private:
             std::vector<VertexId> source;
             std::vector<Placement> placed;
             if (!derive_step(g, grammar, derive_options, nullptr, nullptr, &source, &placed)) break;
+            step_nonterminals_.emplace_back();
             for (std::size_t v = 0; v < placed.size(); ++v) {
                 const Placement& p = placed[v];
                 if (p.instance < 0) continue;
-                placed_positions_[static_cast<std::size_t>(p.instance)].push_back(g.positions[v]);
-                every_position_.push_back(g.positions[v]);
+                if (g.symbols[v]) step_nonterminals_.back().push_back(g.positions[v]);
                 const Node& n = instances_[static_cast<std::size_t>(p.instance)].members[static_cast<std::size_t>(p.rule_vertex)];
                 if (n.nonterminal) continue;
                 decoded_[static_cast<std::size_t>(n.id)] = g.positions[v];
@@ -603,35 +686,47 @@ private:
                 rule_points[r].emplace_back(l.vertex, ep);
             }
         }
-        // How far apart things are around each place: the distance from a vertex to the
-        // nearest other vertex the derivation ever has there.
+        // How far apart things are around each place when an instance's embedding is
+        // resolved, in the step that rewrites it: the streets placed by then (counted all,
+        // which only errs on the safe side) and the nonterminals that step places.
         namespace bg = boost::geometry;
         namespace bgi = boost::geometry::index;
         using Point = bg::model::point<double, 2, bg::cs::cartesian>;
-        std::vector<Point> points;
-        points.reserve(every_position_.size());
-        for (const Vec2& p : every_position_) points.emplace_back(p.x(), p.y());
-        const bgi::rtree<Point, bgi::rstar<16>> tree(points.begin(), points.end());
+        using Tree = bgi::rtree<Point, bgi::rstar<16>>;
+        auto tree_of = [](const std::vector<Vec2>& positions) {
+            std::vector<Point> points;
+            points.reserve(positions.size());
+            for (const Vec2& p : positions) points.emplace_back(p.x(), p.y());
+            return Tree(points.begin(), points.end());
+        };
+        const Tree streets = tree_of(decoded_);
+        std::vector<Tree> nonterminals;
+        for (const auto& positions : step_nonterminals_) nonterminals.push_back(tree_of(positions));
         const double same_place = 10 * options_.quantum_m;
-        auto room = [&](const Vec2& p) {
-            for (auto it = tree.qbegin(bgi::nearest(Point(p.x(), p.y()), 4)); it != tree.qend(); ++it) {
+        auto nearest_other = [&](const Tree& tree, const Vec2& p) {
+            for (auto it = tree.qbegin(bgi::nearest(Point(p.x(), p.y()), 2)); it != tree.qend(); ++it) {
                 const double d = std::hypot(bg::get<0>(*it) - p.x(), bg::get<1>(*it) - p.y());
-                if (d > same_place) return d; // nearest first; nearer ones are this vertex itself
+                if (d > same_place) return d; // nearest first; a nearer one is the vertex itself
             }
             return std::numeric_limits<double>::infinity();
         };
+        auto room = [&](const Vec2& p, int step) {
+            const double d = nearest_other(streets, p);
+            const auto s = static_cast<std::size_t>(step);
+            return s < nonterminals.size() ? std::min(d, nearest_other(nonterminals[s], p)) : d;
+        };
         for (std::size_t i = 0; i < raw.size(); ++i) {
             RuleInstance& ri = enc.instances[i];
-            // A quarter of the room around the instance and its partners: no other vertex can
-            // be taken for a partner or merged with one of its vertices.
+            // Half the room around the instance's partners: an embedding point that lands
+            // within half the tolerance of its partner has no other vertex nearer (the
+            // instance's own vertices never merge, see derive_step).
             double r = std::numeric_limits<double>::infinity();
-            for (const Vec2& p : placed_positions_[i]) r = std::min(r, room(p));
-            for (const RawLink& l : raw[i]) r = std::min(r, room(decoded_[static_cast<std::size_t>(l.y)]));
-            const double quarter = 0.25 * r;
+            for (const RawLink& l : raw[i]) r = std::min(r, room(decoded_[static_cast<std::size_t>(l.y)], depth[i] + 1));
+            const double half = 0.5 * r;
             double tolerance = enc.tolerance_m;
-            if (std::isfinite(quarter) && quarter > enc.tolerance_m) {
-                const double unit = std::pow(10.0, std::floor(std::log10(quarter)));
-                tolerance = std::floor(quarter / unit) * unit; // rounded down to one digit
+            if (std::isfinite(half) && half > enc.tolerance_m) {
+                const double unit = std::pow(10.0, std::floor(std::log10(half)));
+                tolerance = std::floor(half / unit) * unit; // rounded down to one digit
             }
             if (tolerance > enc.tolerance_m) ri.tolerance_m = tolerance;
             const Similarity2& f = effective_[i];
@@ -732,13 +827,13 @@ private:
     std::vector<RuleInstance> encoded_; // per instance: what goes into the grammar
     std::vector<std::vector<VertexId>> occurrence_of_; // this level's instances: vertices of graph_
     std::vector<RuleDraft> rules_;
+    std::vector<int> rotations_; // per rule: the rotations that map its pattern onto itself
     std::vector<std::int32_t> placer_;      // per input vertex: the instance placing it, -1 = the axiom
     std::vector<std::int32_t> axiom_index_; // per input vertex: its axiom vertex, -1 = none
     std::vector<Vec2> decoded_;             // per input vertex: where the derivation puts it
     std::vector<char> placed_;
     std::vector<Similarity2> effective_;    // per instance: the frame its rule is placed in
-    std::vector<std::vector<Vec2>> placed_positions_; // per instance: where the derivation places its vertices
-    std::vector<Vec2> every_position_;      // every vertex the derivation ever has
+    std::vector<std::vector<Vec2>> step_nonterminals_; // per derivation step (0 = the axiom): the nonterminals it places
 };
 
 } // namespace
