@@ -1,4 +1,5 @@
-"""Runs inside a Blender *with a window* (under Xvfb), driven by test_analysis.py.
+"""Runs inside a Blender *with a window* (under Xvfb), driven by test_analysis.py and
+test_learning.py.
 
 In background mode (-b) Blender keeps no undo stack and runs no modal operators, so this
 script does what a user does: it imports the road file INPUT, then
@@ -7,7 +8,11 @@ script does what a user does: it imports the road file INPUT, then
   undoes and redoes it; then selects one block in Edit Mode, runs Find Similar and undoes
   it;
 * MODE "escape" (Blender started with --enable-event-simulate): starts Analyze, presses
-  Esc while it runs, and waits until it has stopped.
+  Esc while it runs, and waits until it has stopped;
+* MODE "learn": sets the Learn panel's settings (lossless, max order 4), runs Learn as from
+  the sidebar or F3 (modal, in a worker thread), waits for it, undoes and redoes it;
+* MODE "learn_escape" (with --enable-event-simulate): starts Learn, presses Esc while it
+  runs, and waits until it has stopped.
 
 It writes what the file held at each step as JSON to OUTPUT.
 
@@ -79,8 +84,19 @@ def window_context():
 
 
 def running():
-    from road_grammar import analysis_ops
-    return bool(analysis_ops.running)
+    from road_grammar import analysis_ops, learning_ops
+    return bool(analysis_ops.running) or bool(learning_ops.running)
+
+
+def learn_state():
+    """What Learn changes: the texts, the scene's grammar, the stored result, the objects."""
+    obj = graph()
+    text = bpy.context.scene.road_grammar.text
+    stats = json.loads(obj.road_learning.stats) if obj.road_learning.stats else {}
+    return {"texts": sorted(bpy.data.texts.keys()), "scene grammar": text.name if text is not None else None,
+            "mode": stats.get("mode"), "levels": obj.road_learning.levels, "rules": len(obj.road_learning.rules),
+            "max rule vertices": max((item.vertex_count for item in obj.road_learning.rules), default=0),
+            "objects": sorted(bpy.data.objects.keys())}
 
 
 def wait_until_done(then, started=None):
@@ -115,6 +131,19 @@ def start():
                 _slow_down()
                 result["analyze"] = sorted(bpy.ops.roads.analyze('INVOKE_DEFAULT', True, max_order=8, full=True))
                 bpy.app.timers.register(_press_escape, first_interval=0.6)
+            elif mode in ("learn", "learn_escape"):
+                result["before"] = learn_state()
+                settings = bpy.context.scene.road_learning
+                settings.mode, settings.max_order = 'LOSSLESS', 4
+                if mode == "learn_escape":
+                    _slow_down()
+                # No properties given: the operator takes the panel's settings.
+                result["learn"] = sorted(bpy.ops.roads.learn('INVOKE_DEFAULT', True))
+                result["was_running"] = running()
+                if mode == "learn_escape":
+                    bpy.app.timers.register(_press_escape, first_interval=0.6)
+                else:
+                    wait_until_done(_after_learning)
             else:
                 result["analyze"] = sorted(bpy.ops.roads.analyze('INVOKE_DEFAULT', True, max_order=4))
                 wait_until_done(_after_analysis)
@@ -158,12 +187,25 @@ def _after_analysis():
     finish()
 
 
+def _after_learning():
+    result["finished"] = True
+    window, override = window_context()
+    with override:
+        result["learned"] = learn_state()
+        result["undo"] = sorted(bpy.ops.ed.undo())
+        result["undone"] = learn_state()
+        result["redo"] = sorted(bpy.ops.ed.redo())
+        result["redone"] = learn_state()
+    finish()
+
+
 # -- Esc
 
 def _slow_down():
-    """Make each progress report take a while, so that Esc comes during the analysis."""
-    from road_grammar import analysis_ops
-    original = analysis_ops.AnalysisJob.__call__
+    """Make each progress report take a while, so that Esc comes during the analysis (or
+    the learning)."""
+    from road_grammar import jobs
+    original = jobs.NativeJob.__call__
     result["progress_calls"] = 0
 
     def slow(self, fraction, message):
@@ -171,7 +213,7 @@ def _slow_down():
         time.sleep(0.3)
         return original(self, fraction, message)
 
-    analysis_ops.AnalysisJob.__call__ = slow
+    jobs.NativeJob.__call__ = slow
 
 
 def _press_escape():
@@ -190,7 +232,7 @@ def _after_escape():
     result["still_running"] = running()
     window, override = window_context()
     with override:
-        result["after"] = state()
+        result["after"] = learn_state() if mode == "learn_escape" else state()
     finish()
 
 

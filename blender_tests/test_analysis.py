@@ -288,6 +288,17 @@ def test_analyze_with_a_seed_in_edit_mode(grid, reports):
     assert all(item.order >= 4 for item in result.isogroups)
 
 
+def test_analyze_in_edit_mode_reads_the_edit_mesh_symbols(grid, ggg):
+    """Blender's attribute data is empty in Edit Mode: the vertex symbols come from the edit
+    mesh (a graph with a nonterminal attribute was refused before)."""
+    mesh_build.set_attribute(grid.data, importer.SYMBOL, 'INT', 'POINT', np.zeros(len(grid.data.vertices)))
+    bpy.ops.object.mode_set(mode='EDIT')
+    topology = analysis.MeshTopology(grid)
+    assert topology.symbols is not None and len(topology.symbols) == len(grid.data.vertices)
+    assert bpy.ops.roads.analyze(max_order=4) == {'FINISHED'}
+    assert square_group(grid) is not None
+
+
 def test_analyze_errors_change_nothing(grid, op_results, ggg):
     select_only(grid, [])
     before = mesh_state(grid), snapshot()

@@ -1,4 +1,4 @@
-"""Undo of an import and of a grow, in a real Blender window.
+"""Undo of an import, of a grow and of a Learn, in a real Blender window.
 
 `blender -b` keeps no undo stack (bpy.ops.ed.undo's poll fails: "Undo disabled at
 startup"), so this test starts a second Blender with a window under Xvfb
@@ -67,3 +67,18 @@ def test_undo_of_grow_restores_the_mesh(ggg, tmp_path):
     assert result["undone"] == before
     assert result["redo"] == ['FINISHED']
     assert result["redone"] == grown
+
+
+def test_undo_of_learn_removes_the_grammar(sample_city, ggg, tmp_path):
+    result = _session(ggg, tmp_path, sample_city, "learn")
+    assert result["load"] == ['FINISHED'] and result["learn"] == ['FINISHED']
+    before, learned = result["before"], result["imported"]
+    assert before["texts"] == [] and before["scene grammar"] is None and before["learned"] == {"sample_city": ""}
+    assert learned["texts"] == ["sample_city.grammar.json"]
+    assert learned["scene grammar"] == "sample_city.grammar.json"
+    assert '"mode": "lossless"' in learned["learned"]["sample_city"]
+    assert "sample_city Rules" in learned["objects"] and "sample_city Rules" not in before["objects"]
+    assert result["undo"] == ['FINISHED']
+    assert result["undone"] == before
+    assert result["redo"] == ['FINISHED']
+    assert result["redone"] == learned

@@ -8,7 +8,8 @@ what the file held at each step as JSON.
 
 MODE "import" (default): import the road file INPUT. MODE "grow": load the grammar file
 INPUT, add its axiom, then grow it by two steps (the step that is undone). MODE "city":
-import the road file INPUT, then build its city (the step that is undone).
+import the road file INPUT, then build its city (the step that is undone). MODE "learn":
+import the road file INPUT, then learn a grammar of it (the step that is undone).
 """
 
 import json
@@ -27,6 +28,9 @@ KINDS = ("objects", "meshes", "materials", "node_groups", "collections", "texts"
 def state():
     data = {kind: sorted(getattr(bpy.data, kind).keys()) for kind in KINDS}
     data["scene keys"] = sorted(bpy.context.scene.keys())
+    grammar_text = bpy.context.scene.road_grammar.text
+    data["scene grammar"] = grammar_text.name if grammar_text is not None else None
+    data["learned"] = {obj.name: obj.road_learning.stats for obj in bpy.data.objects if obj.get("road_graph")}
     # What each mesh holds: counts, a checksum of the positions, its attributes.
     data["meshes held"] = {
         mesh.name: [len(mesh.vertices), len(mesh.edges), round(sum(v.co.x + 2.0 * v.co.y for v in mesh.vertices), 3),
@@ -48,7 +52,7 @@ def run():
         area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
         region = next(r for r in area.regions if r.type == 'WINDOW')
         with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
-            if mode == "city":
+            if mode in ("city", "learn"):
                 result["load"] = sorted(bpy.ops.roads.import_osm('EXEC_DEFAULT', True, filepath=input_path,
                                                                  highways='ALL'))
             if mode == "grow":
@@ -59,6 +63,8 @@ def run():
             # undo=True: push an undo step as when the user runs the operator from the menu.
             if mode == "city":
                 result["city"] = sorted(bpy.ops.roads.build_city('EXEC_DEFAULT', True))
+            elif mode == "learn":
+                result["learn"] = sorted(bpy.ops.roads.learn('EXEC_DEFAULT', True, mode='LOSSLESS'))
             elif mode == "grow":
                 result["grow"] = sorted(bpy.ops.roads.grow('EXEC_DEFAULT', True, steps=2))
             else:

@@ -1,5 +1,5 @@
-"""Road Grammar: import OpenStreetMap road networks as graphs and road surfaces, and grow
-road graphs with geometric graph grammars.
+"""Road Grammar: import OpenStreetMap road networks as graphs and road surfaces, grow road
+graphs with geometric graph grammars, and learn grammars from road graphs.
 
 The add-on calls the native library only through its Python module ``ggg`` (see
 native.py for where it is looked for). Registering never needs the module, so the
@@ -14,7 +14,8 @@ bl_info = {
     "blender": (3, 4, 0),
     "location": "File > Import > OpenStreetMap Roads; 3D View > Sidebar > Roads",
     "description": "Import OpenStreetMap roads as a road graph mesh with flat road surfaces; "
-    "grow road graphs with geometric graph grammars; build, fly through and render 3-D cities",
+    "grow road graphs with geometric graph grammars, learn grammars from them; build, fly through and render 3-D "
+    "cities",
     "category": "Import-Export",
 }
 
@@ -33,11 +34,21 @@ else:
 if "analysis" in locals():
     import importlib
 
-    for _module in (pattern_display, analysis, analysis_ops, analysis_panels):  # noqa: F821
+    for _module in (jobs, pattern_display, analysis, analysis_ops, analysis_panels):  # noqa: F821
         importlib.reload(_module)
     del _module
 else:
-    from . import pattern_display, analysis, analysis_ops, analysis_panels
+    from . import jobs, pattern_display, analysis, analysis_ops, analysis_panels
+
+# Grammar learning (inverse procedural modelling): after the analyzer, whose parts it uses.
+if "learning" in locals():
+    import importlib
+
+    for _module in (rule_display, learning, learning_ops, learning_panels):  # noqa: F821
+        importlib.reload(_module)
+    del _module
+else:
+    from . import rule_display, learning, learning_ops, learning_panels
 
 import bpy
 
@@ -70,6 +81,14 @@ classes = (
     analysis_panels.ROADS_UL_isogroups,
     analysis_panels.VIEW3D_PT_roads_patterns,
     analysis_panels.VIEW3D_PT_roads_isogroups,
+    learning.ROADS_PG_learned_rule,
+    learning.ROADS_PG_learning,
+    learning.ROADS_PG_learning_settings,
+    learning_ops.ROADS_OT_learn,
+    learning_ops.ROADS_OT_show_level,
+    learning_panels.ROADS_UL_learned_rules,
+    learning_panels.VIEW3D_PT_roads_learn,
+    learning_panels.VIEW3D_PT_roads_learned_rules,
 )
 
 
@@ -79,12 +98,15 @@ def register():
     grammar.register()
     city_ops.register()
     analysis.register()
+    learning.register()
     bpy.types.TOPBAR_MT_file_import.append(operators.menu_import)
 
 
 def unregister():
     bpy.types.TOPBAR_MT_file_import.remove(operators.menu_import)
     city_ops.unregister()
+    learning_ops.stop_all()
+    learning.unregister()
     analysis_ops.stop_all()
     analysis.unregister()
     grammar.unregister()

@@ -25,6 +25,7 @@ the analyzer sees it.
 
 import zlib
 
+import bmesh
 import bpy
 import numpy as np
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty, FloatVectorProperty,
@@ -52,24 +53,24 @@ SCALE_NAMES = {'SIMILARITY': "similarity", 'RIGID': "rigid", 'RANGE': "range"}
 
 class MeshTopology:
     """The road graph of a mesh as the analyzer sees it: vertex positions (metres, the
-    object's local x, y), edges and vertex symbols, in the mesh's own order, so that graph
-    vertex i is mesh vertex i and graph edge j is mesh edge j.
+    object's local x, y), edges and vertex symbols (and, ``with_classes``, the highway class
+    of each edge: a learned grammar's rules keep them), in the mesh's own order, so that
+    graph vertex i is mesh vertex i and graph edge j is mesh edge j.
 
     In Edit Mode the edit mesh is written to the mesh first (``update_from_editmode``), so
     this is what the user sees."""
 
-    def __init__(self, obj):
+    def __init__(self, obj, with_classes=False):
         if obj.mode == 'EDIT':
             obj.update_from_editmode()
         mesh = obj.data
         self.positions = mesh_build.positions_xy(mesh)
         self.edges = mesh_build.edge_vertices(mesh)
         self.vertex_count = len(self.positions)
-        symbols = mesh.attributes.get(SYMBOL)
-        if symbols is not None and symbols.domain == 'POINT' and symbols.data_type == 'INT':
-            self.symbols = np.maximum(mesh_build.read_attribute(mesh, SYMBOL, np.int64), 0)
-        else:
-            self.symbols = None
+        self.symbols = _int_attribute(obj, SYMBOL, 'POINT')
+        if self.symbols is not None:
+            self.symbols = np.maximum(self.symbols, 0)
+        self.highway = _int_attribute(obj, "highway", 'EDGE') if with_classes else None
         self.selected = np.zeros(self.vertex_count, dtype=bool)
         mesh.vertices.foreach_get("select", self.selected)
         lat, lon = float(obj.get("origin_lat", 0.0)), float(obj.get("origin_lon", 0.0))
@@ -81,10 +82,30 @@ class MeshTopology:
         """The ggg.Graph of the mesh (raises ggg.Error for a mesh the library refuses, e.g. a
         repeated edge)."""
         extra = {} if self.symbols is None else {"vertex_symbols": self.symbols}
+        if self.highway is not None:
+            extra["edge_highway"] = np.clip(self.highway, 0, len(ggg.highway_classes()) - 1)
         return ggg.Graph.from_arrays(self.positions, self.edges, origin_latlon=self.origin_latlon, **extra)
 
     def selected_ids(self):
         return np.flatnonzero(self.selected).astype(np.int64)
+
+
+def _int_attribute(obj, name, domain):
+    """The values of the INT attribute ``name`` on ``domain`` ('POINT' or 'EDGE') of
+    ``obj``'s mesh as int64, else None. In Edit Mode the values are the edit mesh's
+    (Blender's attribute data is empty there)."""
+    mesh = obj.data
+    attribute = mesh.attributes.get(name)
+    if attribute is None or attribute.domain != domain or attribute.data_type != 'INT':
+        return None
+    if obj.mode != 'EDIT':
+        return mesh_build.read_attribute(mesh, name, np.int64)
+    bm = bmesh.from_edit_mesh(mesh)
+    elements = bm.verts if domain == 'POINT' else bm.edges
+    layer = elements.layers.int.get(name)
+    if layer is None:
+        return None
+    return np.fromiter((element[layer] for element in elements), dtype=np.int64, count=len(elements))
 
 
 def topology_checksum(vertex_count, edges):

@@ -2,17 +2,12 @@
 selected piece of the road graph occurs again, analyse a whole road graph for the street
 patterns that repeat (isogroups), and show them.
 
-Analyze runs the native analysis in a worker thread (ggg.analyze releases the GIL); the
-thread touches no Blender data: its progress callback only records the fraction and
-message and returns False once the user cancelled. From the UI the operator is modal (a
-timer shows the progress in the status bar; Esc cancels); from scripts and in background
-mode it waits for the thread, with the window manager's progress. Nothing in the scene
-changes before the analysis has finished, so a failed or cancelled run leaves it as it
-was.
+Analyze runs the native analysis in a worker thread (ggg.analyze releases the GIL; see
+jobs.py): from the UI the operator is modal (a timer shows the progress in the status bar;
+Esc cancels); from scripts and in background mode it waits for the thread, with the
+window manager's progress. Nothing in the scene changes before the analysis has finished,
+so a failed or cancelled run leaves it as it was.
 """
-
-import threading
-import time
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
@@ -20,24 +15,17 @@ from bpy.types import Operator
 
 import numpy as np
 
-from . import analysis, importer, native, pattern_display
+from . import analysis, importer, jobs, native, pattern_display
 
 # Analyses running in the UI: object name -> AnalysisJob (for the panel, and so that one
 # object is not analysed twice at once).
 running = {}
 
-# Events a running modal analysis lets through to the viewport: navigation only.
-_NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'WHEELINMOUSE', 'WHEELOUTMOUSE', 'TRACKPADPAN',
-               'TRACKPADZOOM', 'MOUSEROTATE', 'MOUSEMOVE', 'INBETWEEN_MOUSEMOVE', 'NDOF_MOTION', 'TIMER_REPORT',
-               'TIMER_REGION', 'TIMER_AUTOSAVE', 'WINDOW_DEACTIVATE', 'NONE'}
-
 
 def stop_all():
     """Cancel the analyses running in the UI and wait for their threads (the add-on is
     being disabled)."""
-    for job in list(running.values()):
-        job.cancel()
-        job.join()
+    jobs.stop_all(running)
 
 
 def _plural(count, word):
@@ -143,70 +131,16 @@ class ROADS_OT_find_similar(Operator):
 
 # --- Analyze --------------------------------------------------------------------------
 
-class AnalysisJob:
-    """One run of ggg.analyze in a worker thread.
+class AnalysisJob(jobs.NativeJob):
+    """One run of ggg.analyze in a worker thread (see jobs.NativeJob)."""
 
-    The thread never touches Blender data. ``__call__`` is the progress callback (called by
-    the native library, from any of its threads): it records the fraction and the message
-    and tells the library whether to go on."""
+    thread_name = "road_grammar analyze"
 
-    def __init__(self, ggg, graph, options):
-        self._ggg = ggg
-        self._graph = graph
-        self._options = options
-        self._cancel = threading.Event()
-        self._done = threading.Event()
-        self._thread = None
-        self.fraction = 0.0
-        self.message = "starting"
-        self.calls = 0
-        self.result = None
-        self.error = None
-        self.seconds = 0.0
-
-    def keep_going(self):
-        return not self._cancel.is_set()
-
-    def __call__(self, fraction, message):
-        self.calls += 1
-        self.fraction = min(max(float(fraction), 0.0), 1.0)
-        self.message = str(message)
-        return self.keep_going()
-
-    def _run(self):
-        started = time.perf_counter()
-        try:
-            self.result = self._ggg.analyze(self._graph, progress=self, **self._options)
-        except BaseException as ex:  # handed to the main thread, which reports it
-            self.error = ex
-        finally:
-            self.seconds = time.perf_counter() - started
-            self._graph = None
-            self._done.set()
-
-    def start(self):
-        self._thread = threading.Thread(target=self._run, name="road_grammar analyze", daemon=True)
-        self._thread.start()
-
-    def cancel(self):
-        self._cancel.set()
-
-    @property
-    def cancelled(self):
-        return self._cancel.is_set()
-
-    def done(self):
-        return self._done.is_set()
-
-    def wait(self, timeout=None):
-        return self._done.wait(timeout)
-
-    def join(self):
-        if self._thread is not None:
-            self._thread.join()
+    def _call(self, ggg, graph, options):
+        return ggg.analyze(graph, progress=self, **options)
 
 
-class ROADS_OT_analyze(Operator):
+class ROADS_OT_analyze(jobs.ModalJobOperator, Operator):
     """Find the street patterns that repeat in the active road graph (isogroups), list them best first and colour the graph by them; Esc cancels"""
 
     bl_idname = "roads.analyze"
@@ -216,13 +150,12 @@ class ROADS_OT_analyze(Operator):
     __annotations__ = analysis.settings_properties()
     _FROM_SETTINGS = ("angle_cells", "distance_cells", "cut", "full", "max_order", "min_count", "scale", "tolerance",
                       "min_aspect", "min_leaves", "min_irregularity", "use_seed", "max_stored", "overview_count")
+    _running = running
+    _doing = "Analysing"
+    _noun = "the analysis"
+    _progress_label = "Analysing roads"
 
-    # Set up by _start; an operator instance runs one analysis.
-    _job = None
-    _timer = None
-    _object_name = ""
     _topology = None
-    _progress_shown = False
 
     @classmethod
     def poll(cls, context):
@@ -240,67 +173,8 @@ class ROADS_OT_analyze(Operator):
                      "min_leaves", "min_irregularity", "max_stored", "overview_count"):
             layout.prop(self, name)
 
-    def invoke(self, context, event):
-        settings = context.scene.road_analysis
-        for name in self._FROM_SETTINGS:
-            if not self.properties.is_property_set(name):
-                setattr(self, name, getattr(settings, name))
-        if bpy.app.background or context.window is None:
-            return self.execute(context)
-        if not self._start(context):
-            return {'CANCELLED'}
-        wm = context.window_manager
-        self._timer = wm.event_timer_add(0.1, window=context.window)
-        wm.modal_handler_add(self)
-        wm.progress_begin(0.0, 1.0)
-        self._progress_shown = True
-        running[self._object_name] = self._job
-        self._show_status(context)
-        return {'RUNNING_MODAL'}
-
-    def modal(self, context, event):
-        try:
-            if event.type == 'TIMER':
-                # Ours or another one's (an event does not say which): look, and pass it on.
-                if self._job.done():
-                    return self._end_modal(context)
-                self._show_status(context)
-                return {'PASS_THROUGH'}
-            if event.type in {'ESC', 'RIGHTMOUSE'} and event.value == 'PRESS':
-                self._job.cancel()
-                self._show_status(context)
-                return {'RUNNING_MODAL'}
-        except Exception as ex:  # never leave a thread or a status text behind
-            self._job.cancel()
-            self._job.join()
-            self._cleanup(context)
-            self.report({'ERROR'}, "The analysis failed: {}: {}".format(type(ex).__name__, ex))
-            return {'CANCELLED'}
-        if event.type in _NAVIGATION:
-            return {'PASS_THROUGH'}
-        return {'RUNNING_MODAL'}
-
-    def cancel(self, context):
-        # Blender ends the operator (e.g. a file is loaded or Blender quits): stop the
-        # thread and wait for it, changing nothing.
-        if self._job is not None:
-            self._job.cancel()
-            self._job.join()
-        self._cleanup(context)
-
-    def execute(self, context):
-        if not self._start(context):
-            return {'CANCELLED'}
-        progress = importer.Progress(context, read_share=1.0, label="Analysing roads")
-        with progress:
-            try:
-                while not self._job.wait(0.1):
-                    progress.step(self._job.fraction, self._job.message)
-            except KeyboardInterrupt:
-                self._job.cancel()
-                self._job.join()
-            progress.step(1.0, "done")
-        return self._finish(context)
+    def _settings(self, context):
+        return context.scene.road_analysis
 
     # -- steps
 
@@ -344,40 +218,6 @@ class ROADS_OT_analyze(Operator):
         self._job = AnalysisJob(ggg, graph, options)
         self._job.start()
         return True
-
-    def _show_status(self, context):
-        job = self._job
-        wm = context.window_manager
-        wm.progress_update(job.fraction)
-        text = "Analysing {}: {} ({:.0f}%) \u2014 Esc to cancel".format(self._object_name, job.message,
-                                                                         100.0 * job.fraction)
-        if job.cancelled:
-            text = "Cancelling the analysis of {}\u2026".format(self._object_name)
-        if context.workspace is not None:
-            context.workspace.status_text_set(text)
-        for area in context.screen.areas if context.screen is not None else ():
-            if area.type == 'VIEW_3D':
-                area.tag_redraw()
-
-    def _cleanup(self, context):
-        running.pop(self._object_name, None)
-        wm = context.window_manager
-        if self._timer is not None:
-            wm.event_timer_remove(self._timer)
-            self._timer = None
-        if self._progress_shown:
-            wm.progress_end()
-            self._progress_shown = False
-        if context.workspace is not None:
-            context.workspace.status_text_set(None)
-        for area in context.screen.areas if context.screen is not None else ():
-            if area.type == 'VIEW_3D':
-                area.tag_redraw()
-
-    def _end_modal(self, context):
-        self._job.join()
-        self._cleanup(context)
-        return self._finish(context)
 
     def _finish(self, context):
         """Store and show the result of the finished job (main thread)."""

@@ -17,6 +17,7 @@
 #include "ggg/error.hpp"
 #include "ggg/graph_info.hpp"
 #include "ggg/io/grammar_file.hpp"
+#include "ggg/measures/network_comparison.hpp"
 #include "ggg/io/read_graph.hpp"
 #include "ggg/rewriting.hpp"
 
@@ -92,6 +93,12 @@ int main(int argc, char** argv) {
     learn.add_to(app);
     ggg::cli::DecodeCommand decode;
     decode.add_to(app);
+    std::string compare_a, compare_b;
+    auto* compare = app.add_subcommand("compare", "How alike two street networks are: distances of their degree, edge length, "
+                                                  "orientation and block area distributions (0 = same); prints JSON");
+    compare->add_option("A", compare_a, "First road graph (OSM, GeoJSON or .ggraph)")->required();
+    compare->add_option("B", compare_b, "Second road graph")->required();
+    import_flags.add_to(*compare);
 
     try {
         app.parse(argc, argv);
@@ -106,6 +113,12 @@ int main(int argc, char** argv) {
 
     try {
         if (learn.chosen()) return learn.run();
+        if (*compare) {
+            const ggg::GeometricGraph a = ggg::read_graph(compare_a, import_flags.options());
+            const ggg::GeometricGraph b = ggg::read_graph(compare_b, import_flags.options());
+            std::cout << ggg::compare_networks(a, b).dump() << std::endl;
+            return 0;
+        }
         if (decode.chosen()) return decode.run();
         if (!output.empty() && ggg::graph_file_type(output) != ggg::GraphFileType::geojson &&
             ggg::graph_file_type(output) != ggg::GraphFileType::graph_file) {

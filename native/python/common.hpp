@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -88,9 +89,14 @@ private:
     std::optional<py::error_already_set> error_;
 };
 
+// nlohmann::json -> Python objects (dicts, lists, numbers, strings).
+py::object to_python(const nlohmann::json& j);
+
 // Binds the analyzer (analysis_bindings.cpp).
 void bind_analysis(py::module_& m);
 // Binds grammar learning and decoding (learning_bindings.cpp).
 void bind_learning(py::module_& m);
+// Binds the comparison of street networks (measures_bindings.cpp).
+void bind_measures(py::module_& m);
 
 } // namespace ggg::python

@@ -11,32 +11,6 @@
 
 namespace ggg::python {
 
-namespace {
-
-// nlohmann::json -> Python objects (dicts, lists, numbers, strings).
-py::object to_python(const nlohmann::json& j) {
-    switch (j.type()) {
-    case nlohmann::json::value_t::object: {
-        py::dict d;
-        for (const auto& [key, value] : j.items()) d[py::str(key)] = to_python(value);
-        return std::move(d);
-    }
-    case nlohmann::json::value_t::array: {
-        py::list l;
-        for (const auto& value : j) l.append(to_python(value));
-        return std::move(l);
-    }
-    case nlohmann::json::value_t::string: return py::str(j.get<std::string>());
-    case nlohmann::json::value_t::boolean: return py::bool_(j.get<bool>());
-    case nlohmann::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
-    case nlohmann::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
-    case nlohmann::json::value_t::number_float: return py::float_(j.get<double>());
-    default: return py::none();
-    }
-}
-
-} // namespace
-
 void bind_learning(py::module_& m) {
     m.def(
         "learn",

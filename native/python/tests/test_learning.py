@@ -111,3 +111,13 @@ def test_progress_cancel_and_errors():
     assert not hand_written.learned
     with pytest.raises(ggg.GrammarError):
         ggg.decode(hand_written)
+
+
+def test_compare_networks():
+    a = grid(10)
+    same = ggg.compare(a, a)
+    assert same["distances"]["mean"] == 0.0
+    assert set(same["distances"]) == {"degree", "edge_length", "orientation", "block_area", "mean"}
+    coarse = ggg.compare(a, grid(10, spacing=250.0))
+    assert coarse["distances"]["edge_length"] == 1.0 and coarse["distances"]["block_area"] == 1.0
+    assert coarse["a"]["orientation_order"] > 0.9 and coarse["a"]["blocks"] == 81

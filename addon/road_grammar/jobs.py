@@ -1,0 +1,229 @@
+"""Long native calls (Analyze, Learn) in a worker thread, and the modal operator that runs
+one from the UI.
+
+The native functions release the GIL; the thread touches no Blender data: its progress
+callback (``NativeJob.__call__``) only records the fraction and message and returns False
+once the user cancelled. From the UI the operator is modal (a timer shows the progress in
+the status bar; Esc or a right click cancels; the viewport can still be navigated); from
+scripts and in background mode it waits for the thread, with the window manager's
+progress. Nothing in the scene changes before the call has finished (the operator's
+``_finish``), so a failed or cancelled run leaves it as it was.
+"""
+
+import threading
+import time
+
+import bpy
+
+from . import importer
+
+# Events a running modal job lets through to the viewport: navigation only.
+NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'WHEELINMOUSE', 'WHEELOUTMOUSE', 'TRACKPADPAN',
+              'TRACKPADZOOM', 'MOUSEROTATE', 'MOUSEMOVE', 'INBETWEEN_MOUSEMOVE', 'NDOF_MOTION', 'TIMER_REPORT',
+              'TIMER_REGION', 'TIMER_AUTOSAVE', 'WINDOW_DEACTIVATE', 'NONE'}
+
+
+class NativeJob:
+    """One run of a native call in a worker thread (subclasses say which, in ``_call``).
+
+    The thread never touches Blender data. ``__call__`` is the progress callback (called by
+    the native library, from any of its threads): it records the fraction and the message
+    and tells the library whether to go on."""
+
+    thread_name = "road_grammar job"
+
+    def __init__(self, ggg, graph, options):
+        self._ggg = ggg
+        self._graph = graph
+        self._options = options
+        self._cancel = threading.Event()
+        self._done = threading.Event()
+        self._thread = None
+        self.fraction = 0.0
+        self.message = "starting"
+        self.calls = 0
+        self.result = None
+        self.error = None
+        self.seconds = 0.0
+
+    def _call(self, ggg, graph, options):
+        """The native call (worker thread); its result becomes ``result``."""
+        raise NotImplementedError
+
+    def keep_going(self):
+        return not self._cancel.is_set()
+
+    def __call__(self, fraction, message):
+        self.calls += 1
+        self.fraction = min(max(float(fraction), 0.0), 1.0)
+        self.message = str(message)
+        return self.keep_going()
+
+    def _run(self):
+        started = time.perf_counter()
+        try:
+            self.result = self._call(self._ggg, self._graph, self._options)
+        except BaseException as ex:  # handed to the main thread, which reports it
+            self.error = ex
+        finally:
+            self.seconds = time.perf_counter() - started
+            self._graph = None
+            self._done.set()
+
+    def start(self):
+        self._thread = threading.Thread(target=self._run, name=self.thread_name, daemon=True)
+        self._thread.start()
+
+    def cancel(self):
+        self._cancel.set()
+
+    @property
+    def cancelled(self):
+        return self._cancel.is_set()
+
+    def done(self):
+        return self._done.is_set()
+
+    def wait(self, timeout=None):
+        return self._done.wait(timeout)
+
+    def join(self):
+        if self._thread is not None:
+            self._thread.join()
+
+
+def stop_all(running):
+    """Cancel the jobs of ``running`` (object name -> NativeJob) and wait for their threads
+    (the add-on is being disabled)."""
+    for job in list(running.values()):
+        job.cancel()
+        job.join()
+
+
+class ModalJobOperator:
+    """The running of a NativeJob for an operator (a mixin before bpy.types.Operator).
+
+    The operator provides:
+
+    * ``_running``: the dict object name -> job of its kind (for the panel, and so that one
+      object is not worked on twice at once);
+    * ``_settings(context)``: the property group whose values ``_FROM_SETTINGS`` are taken
+      when invoked (for those not set by the caller);
+    * ``_start(context)``: read the graph (main thread), set ``_object_name`` and start
+      ``_job``; False after an ERROR report;
+    * ``_finish(context)``: store the finished job's result (main thread), report, and
+      return the operator's result;
+    * ``_doing`` ("Analysing"), ``_noun`` ("the analysis"), ``_progress_label``
+      ("Analysing roads"): for the status bar, the console and the messages.
+    """
+
+    _running = {}
+    _FROM_SETTINGS = ()
+    _doing = "Working on"
+    _noun = "the job"
+    _progress_label = "Working"
+
+    # Set up by _start; an operator instance runs one job.
+    _job = None
+    _timer = None
+    _object_name = ""
+    _progress_shown = False
+
+    def _settings(self, context):
+        raise NotImplementedError
+
+    def invoke(self, context, event):
+        settings = self._settings(context)
+        for name in self._FROM_SETTINGS:
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, name))
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        if not self._start(context):
+            return {'CANCELLED'}
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.1, window=context.window)
+        wm.modal_handler_add(self)
+        wm.progress_begin(0.0, 1.0)
+        self._progress_shown = True
+        self._running[self._object_name] = self._job
+        self._show_status(context)
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        try:
+            if event.type == 'TIMER':
+                # Ours or another one's (an event does not say which): look, and pass it on.
+                if self._job.done():
+                    return self._end_modal(context)
+                self._show_status(context)
+                return {'PASS_THROUGH'}
+            if event.type in {'ESC', 'RIGHTMOUSE'} and event.value == 'PRESS':
+                self._job.cancel()
+                self._show_status(context)
+                return {'RUNNING_MODAL'}
+        except Exception as ex:  # never leave a thread or a status text behind
+            self._job.cancel()
+            self._job.join()
+            self._cleanup(context)
+            self.report({'ERROR'}, "{} failed: {}: {}".format(self._noun.capitalize(), type(ex).__name__, ex))
+            return {'CANCELLED'}
+        if event.type in NAVIGATION:
+            return {'PASS_THROUGH'}
+        return {'RUNNING_MODAL'}
+
+    def cancel(self, context):
+        # Blender ends the operator (e.g. a file is loaded or Blender quits): stop the
+        # thread and wait for it, changing nothing.
+        if self._job is not None:
+            self._job.cancel()
+            self._job.join()
+        self._cleanup(context)
+
+    def execute(self, context):
+        if not self._start(context):
+            return {'CANCELLED'}
+        progress = importer.Progress(context, read_share=1.0, label=self._progress_label)
+        with progress:
+            try:
+                while not self._job.wait(0.1):
+                    progress.step(self._job.fraction, self._job.message)
+            except KeyboardInterrupt:
+                self._job.cancel()
+                self._job.join()
+            progress.step(1.0, "done")
+        return self._finish(context)
+
+    def _show_status(self, context):
+        job = self._job
+        wm = context.window_manager
+        wm.progress_update(job.fraction)
+        text = "{} {}: {} ({:.0f}%) \u2014 Esc to cancel".format(self._doing, self._object_name, job.message,
+                                                                  100.0 * job.fraction)
+        if job.cancelled:
+            text = "Cancelling {} of {}\u2026".format(self._noun, self._object_name)
+        if context.workspace is not None:
+            context.workspace.status_text_set(text)
+        for area in context.screen.areas if context.screen is not None else ():
+            if area.type == 'VIEW_3D':
+                area.tag_redraw()
+
+    def _cleanup(self, context):
+        self._running.pop(self._object_name, None)
+        wm = context.window_manager
+        if self._timer is not None:
+            wm.event_timer_remove(self._timer)
+            self._timer = None
+        if self._progress_shown:
+            wm.progress_end()
+            self._progress_shown = False
+        if context.workspace is not None:
+            context.workspace.status_text_set(None)
+        for area in context.screen.areas if context.screen is not None else ():
+            if area.type == 'VIEW_3D':
+                area.tag_redraw()
+
+    def _end_modal(self, context):
+        self._job.join()
+        self._cleanup(context)
+        return self._finish(context)

@@ -1,0 +1,239 @@
+"""Operators of grammar learning (inverse procedural modelling, paper 6): learn a grammar of
+the active road graph, and show the graph encoded to one level of it, coloured by rule
+(paper Fig. 13).
+
+Learn runs ggg.learn in a worker thread (it releases the GIL; see jobs.py): from the UI
+the operator is modal (progress in the status bar, Esc cancels); from scripts and in
+background mode it waits for the thread. Nothing in the scene changes before the
+learning has finished, so a failed or cancelled run leaves it as it was. A finished run is
+one undo step: the grammar's Text, the result on the graph object and its rules object.
+"""
+
+import bpy
+from bpy.props import IntProperty
+from bpy.types import Operator
+
+from . import analysis, analysis_ops, importer, jobs, learning, native, pattern_display, rule_display
+from .learning import plural
+
+# Learning runs in the UI: object name -> LearningJob (for the panel, and so that one
+# object is not learned from twice at once).
+running = {}
+
+
+def stop_all():
+    """Cancel the learning runs in the UI and wait for their threads (the add-on is being
+    disabled)."""
+    jobs.stop_all(running)
+
+
+def learner_or_report(op):
+    """The module ggg with grammar learning, or None after an ERROR report."""
+    ggg = native.load_or_report(op)
+    if ggg is None:
+        return None
+    missing = [name for name in ("learn", "decode", "encoded_graph", "parse_grammar", "Cancelled")
+               if not hasattr(ggg, name)]
+    if missing:
+        op.report({'ERROR'}, "The native module {} cannot learn grammars (it lacks {}); rebuild it".format(
+            getattr(ggg, "__file__", "ggg"), ", ".join(missing)))
+        return None
+    return ggg
+
+
+class LearningJob(jobs.NativeJob):
+    """One run of ggg.learn in a worker thread (see jobs.NativeJob)."""
+
+    thread_name = "road_grammar learn"
+
+    def _call(self, ggg, graph, options):
+        return ggg.learn(graph, progress=self, **options)
+
+
+class ROADS_OT_learn(jobs.ModalJobOperator, Operator):
+    """Learn a grammar of the active road graph (its repeated street patterns become rules, level by level); it becomes the scene's grammar. Esc cancels"""
+
+    bl_idname = "roads.learn"
+    bl_label = "Learn"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    __annotations__ = learning.settings_properties(options={'SKIP_SAVE'})
+    _FROM_SETTINGS = ("angle_cells", "distance_cells", "cut", "max_order", "levels", "mode", "min_aspect",
+                      "min_leaves", "min_irregularity")
+    _running = running
+    _doing = "Learning from"
+    _noun = "the learning"
+    _progress_label = "Learning a grammar"
+
+    _topology = None
+
+    @classmethod
+    def poll(cls, context):
+        obj = importer.road_graph_object(context.active_object)
+        return obj is None or obj.name not in running
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        row = layout.row(align=True)
+        row.prop(self, "angle_cells", text="Grid")
+        row.prop(self, "distance_cells", text="")
+        for name in ("cut", "max_order", "levels", "mode", "min_aspect", "min_leaves", "min_irregularity"):
+            layout.prop(self, name)
+
+    def _settings(self, context):
+        return context.scene.road_learning
+
+    # -- steps
+
+    def _start(self, context):
+        """Read the graph (main thread) and start the worker; False after an ERROR report."""
+        obj = analysis_ops.graph_or_report(self, context)
+        if obj is None:
+            return False
+        ggg = learner_or_report(self)
+        if ggg is None:
+            return False
+        if obj.name in running:
+            self.report({'ERROR'}, "{} is being learned from already".format(obj.name))
+            return False
+        topology = analysis.MeshTopology(obj, with_classes=True)
+        if len(topology.edges) == 0:
+            self.report({'ERROR'}, "{} has no edges to learn from".format(obj.name))
+            return False
+        try:
+            graph = topology.graph(ggg)
+        except ggg.Error as ex:
+            self.report({'ERROR'}, "Cannot learn from {}: {}".format(obj.name, ex))
+            return False
+        self._ggg = ggg
+        self._object_name = obj.name
+        self._topology = topology
+        self._job = LearningJob(ggg, graph, self._options())
+        self._job.start()
+        return True
+
+    def _options(self):
+        return {
+            "lossless": self.mode == 'LOSSLESS', "levels": self.levels,
+            "grid": (self.angle_cells, self.distance_cells), "cut": self.cut, "max_order": self.max_order,
+            "min_aspect": self.min_aspect, "min_leaves": self.min_leaves, "min_irregularity": self.min_irregularity,
+        }
+
+    def _finish(self, context):
+        """Keep and show the grammar of the finished job (main thread)."""
+        ggg, job = self._ggg, self._job
+        job.join()
+        name = self._object_name
+        if isinstance(job.error, ggg.Cancelled):
+            self.report({'WARNING'}, "Learning from {} was cancelled; nothing changed".format(name))
+            return {'CANCELLED'}
+        if job.error is not None:
+            if isinstance(job.error, ggg.Error):
+                self.report({'ERROR'}, "Cannot learn from {}: {}".format(name, job.error))
+            else:
+                self.report({'ERROR'}, "Learning from {} failed: {}: {}".format(
+                    name, type(job.error).__name__, job.error))
+            return {'CANCELLED'}
+        obj = bpy.data.objects.get(name)
+        if obj is None or obj.type != 'MESH':
+            self.report({'ERROR'}, "The road graph {} is gone; the grammar is not kept".format(name))
+            return {'CANCELLED'}
+        topology = analysis.MeshTopology(obj)
+        if topology.checksum != self._topology.checksum:
+            self.report({'ERROR'}, "{} changed while it was learned from; learn again".format(name))
+            return {'CANCELLED'}
+        learned, stats = job.result
+        try:
+            content = learned.to_json()
+            parsed = ggg.parse_grammar(content, name)  # what the Text will hold must read back
+        except ggg.Error as ex:
+            self.report({'ERROR'}, "The grammar learned from {} does not read back: {}".format(name, ex))
+            return {'CANCELLED'}
+        if obj.mode == 'EDIT':
+            # The result lives on the object: leave Edit Mode, so that it is one (global)
+            # undo step with the grammar's text.
+            with context.temp_override(active_object=obj, object=obj, edit_object=obj):
+                bpy.ops.object.mode_set(mode='OBJECT')
+        text = learning.store(context, obj, parsed, content, stats, self._parameters(), job.seconds, topology)
+        self.report({'INFO'}, learning.summary(name, stats, job.seconds) + "; kept in the text '{}'".format(text.name))
+        if not stats.get("roundtrip", {}).get("edges_equal", True):
+            self.report({'WARNING'}, "The grammar of {} does not decode to the same streets".format(name))
+        if not parsed.rules:
+            self.report({'WARNING'}, "No pattern of {} repeats under these settings: the grammar is the graph itself "
+                        "(its axiom)".format(name))
+        try:
+            learning.show(obj)
+        except (rule_display.DisplayError, native.NativeModuleError) as ex:
+            self.report({'WARNING'}, "The grammar is kept, but its levels cannot be shown: {}".format(ex))
+        return {'FINISHED'}
+
+    def _parameters(self):
+        parts = ["grid {}x{}".format(self.angle_cells, self.distance_cells), "cut {:g}".format(self.cut),
+                 "max order {}".format(self.max_order),
+                 plural(self.levels, "level") if self.levels else "all levels",
+                 "lossless" if self.mode == 'LOSSLESS' else "paper"]
+        if self.min_aspect > 0:
+            parts.append("min aspect {:g}".format(self.min_aspect))
+        if self.min_leaves > 0:
+            parts.append("min leaves {}".format(self.min_leaves))
+        if self.min_irregularity > 0:
+            parts.append("min irregularity {:g}\u00b0".format(self.min_irregularity))
+        return ", ".join(parts)
+
+
+def _learned_or_report(op, context):
+    obj = analysis_ops.graph_or_report(op, context)
+    if obj is None:
+        return None
+    if not obj.road_learning.has_result():
+        op.report({'ERROR'}, "{} has no learned grammar: run Learn first".format(obj.name))
+        return None
+    return obj
+
+
+class ROADS_OT_show_level(Operator):
+    """Show the active road graph encoded to one level of its learned grammar, each street coloured by the rule whose instance holds it"""
+
+    bl_idname = "roads.show_level"
+    bl_label = "Show Level"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    level: IntProperty(name="Level", description="Level to show (0 = the decoded streets, the highest = the axiom; "
+                       "-1: the one shown)", default=-1, min=-1)
+    rule: IntProperty(name="Rule", description="Place of the rule to highlight in the list, from 0 (-1: every rule "
+                      "in its colour)", default=-1, min=-1)
+
+    def execute(self, context):
+        obj = _learned_or_report(self, context)
+        if obj is None:
+            return {'CANCELLED'}
+        result = obj.road_learning
+        if self.level > result.levels:
+            self.report({'ERROR'}, "The grammar of {} has levels 0 to {}: there is no level {}".format(
+                obj.name, result.levels, self.level))
+            return {'CANCELLED'}
+        if self.rule >= len(result.rules):
+            self.report({'ERROR'}, "The grammar of {} has {}: there is no rule {}".format(
+                obj.name, plural(len(result.rules), "rule"), self.rule))
+            return {'CANCELLED'}
+        before = result.level, result.active_rule
+        with pattern_display.suspended_updates():
+            if self.level >= 0:
+                result.level = self.level
+            result.active_rule = self.rule
+        try:
+            view = learning.show(obj)
+        except (rule_display.DisplayError, native.NativeModuleError) as ex:
+            with pattern_display.suspended_updates():
+                result.level, result.active_rule = before
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        counts = view.counts()
+        shown = ", ".join("{} {}".format(view.rule_names.get(symbol, symbol), instances)
+                          for symbol, (instances, _streets) in counts.items())
+        self.report({'INFO'}, "{}: level {} of {}, {} of {}{}".format(
+            obj.name, view.level, result.levels, plural(sum(i for i, _ in counts.values()), "instance"),
+            plural(len(counts), "rule"), " ({})".format(shown) if shown else ""))
+        return {'FINISHED'}

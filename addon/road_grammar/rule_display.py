@@ -1,0 +1,421 @@
+"""Showing how a learned grammar encodes its road graph (paper Fig. 13): the graph encoded
+to one level of the hierarchy, coloured by rule.
+
+A child object of the road graph, "<graph> Rules", holds the streets the grammar decodes
+to (``ggg.decode``) and, as loose vertices after them, the nonterminal vertices of the
+graph encoded to the level shown (``ggg.encoded_graph``). Its mesh attributes:
+
+* edges: ``rule``, the symbol of the rule whose instance holds the street at that level (both
+  of its ends stand for the same nonterminal vertex of the level's graph; 0: none, the
+  street joins two instances or lies outside them), ``rule_slot``, its colour (0 the
+  neutral grey, 1..PALETTE_SIZE the colours of pattern_display's palette: rule k of the
+  grammar has colour (k - 1) mod PALETTE_SIZE + 1), and ``width`` (the class's default
+  width);
+* points: ``marker_rule`` (the symbol of the nonterminal a vertex marks, 0 for a street
+  vertex) and ``marker_slot`` (its colour, DIMMED_SLOT for a rule that is not the chosen
+  one, 0 for a street vertex).
+
+Its Geometry Nodes modifier ("Road Rules") draws every street as a flat ribbon a little
+above the road surfaces in its colour (the neutral ones lowest) and every nonterminal as a
+disc in its rule's colour on a white disc, above them; the materials of the colours are
+pattern_display's, so the list, the isogroups and this display share them. The mesh is
+kept in the .blend, so the display survives saving; a level is computed again from the
+grammar text whenever it is shown (the last results are cached in memory by the text's
+content).
+"""
+
+import bpy
+import numpy as np
+
+from . import grammar, mesh_build, native, pattern_display, preferences
+from .surface import _new_socket
+
+OBJECT_KEY = "road_rules"  # marks the child object that shows the levels
+LEVEL_KEY = "road_rules_level"  # on the child: the level shown
+RULE_KEY = "road_rules_rule"  # on the child: the symbol of the highlighted rule, 0 none
+STREET_VERTICES_KEY = "road_rules_street_vertices"  # on the child: vertices before the markers
+NODE_GROUP_NAME = "Road Rules"
+MODIFIER_NAME = "Road Rules"
+MARKER = "road_grammar_rules_version"
+ROLE_MARKER = "road_grammar_rules_material"
+NODE_GROUP_VERSION = 1
+MATERIAL_VERSION = 1
+
+EDGE_RULE = "rule"
+EDGE_SLOT = "rule_slot"
+MARKER_RULE = "marker_rule"
+MARKER_SLOT = "marker_slot"
+WIDTH = "width"
+
+PALETTE_SIZE = pattern_display.PALETTE_SIZE
+NEUTRAL_SLOT = 0
+DIMMED_SLOT = PALETTE_SIZE + 1  # a marker of a rule other than the chosen one
+# Drawing heights: streets, a little more per colour (so colours are drawn over the
+# neutral streets at crossings), the markers above them all.
+HEIGHT_M = 0.3
+SLOT_STEP_M = 0.004
+MARKER_LIFT_M = 0.1
+OUTLINE_SCALE = 1.35
+
+NEUTRAL_COLOR = pattern_display.NO_COLOR
+OUTLINE_COLOR = (1.0, 1.0, 1.0)
+
+
+class DisplayError(Exception):
+    """A level cannot be shown; the message says why."""
+
+
+def rule_slot(index):
+    """Colour slot of the rule at ``index`` (from 0) in the grammar's rules."""
+    return index % PALETTE_SIZE + 1
+
+
+def slot_color_srgb(slot):
+    return NEUTRAL_COLOR if slot in (NEUTRAL_SLOT, DIMMED_SLOT) else pattern_display.slot_color_srgb(slot)
+
+
+# --- what a level shows (native module only, no Blender data) ------------------------------
+
+class LevelView:
+    """The decoded streets of a learned grammar, the rule holding each street at ``level``
+    and the nonterminal vertices of the graph encoded to that level."""
+
+    def __init__(self, ggg, parsed, level, streets):
+        self.level = int(level)
+        self.positions = np.asarray(streets.positions, dtype=np.float64).reshape(-1, 2)
+        self.edges = np.asarray(streets.edges, dtype=np.int64).reshape(-1, 2)
+        self.highway = np.asarray(streets.edge_highway, dtype=np.int64)
+        self.slot_of = {int(rule["symbol"]): rule_slot(index) for index, rule in enumerate(parsed.rules)}
+        self.rule_names = {int(rule["symbol"]): rule["name"] for rule in parsed.rules}
+        if self.level == 0:
+            self.edge_rule = np.zeros(len(self.edges), dtype=np.int64)
+            self.marker_positions = np.zeros((0, 2), dtype=np.float64)
+            self.marker_rule = np.zeros(0, dtype=np.int64)
+            return
+        level_graph, image = ggg.encoded_graph(parsed, self.level)
+        symbols = np.asarray(level_graph.vertex_symbols, dtype=np.int64)
+        image = np.asarray(image, dtype=np.int64)
+        if len(image) != len(self.positions):
+            raise DisplayError("level {}: the image has {} vertices, the streets {}".format(
+                self.level, len(image), len(self.positions)))
+        a, b = image[self.edges[:, 0]], image[self.edges[:, 1]]
+        own = (a == b) & (a >= 0)
+        self.edge_rule = np.zeros(len(self.edges), dtype=np.int64)
+        self.edge_rule[own] = symbols[a[own]]
+        nonterminals = np.flatnonzero(symbols > 0)
+        self.marker_positions = np.asarray(level_graph.positions, dtype=np.float64).reshape(-1, 2)[nonterminals]
+        self.marker_rule = symbols[nonterminals]
+
+    def slots(self, symbols, default):
+        lookup = np.full(max(self.slot_of, default=0) + 1, default, dtype=np.int64)
+        for symbol, slot in self.slot_of.items():
+            lookup[symbol] = slot
+        symbols = np.asarray(symbols, dtype=np.int64)
+        inside = (symbols >= 0) & (symbols < len(lookup))
+        return np.where(inside, lookup[np.clip(symbols, 0, len(lookup) - 1)], default)
+
+    def edge_slots(self, highlight=0):
+        slots = np.where(self.edge_rule > 0, self.slots(self.edge_rule, NEUTRAL_SLOT), NEUTRAL_SLOT)
+        if highlight:
+            slots = np.where(self.edge_rule == highlight, slots, NEUTRAL_SLOT)
+        return slots
+
+    def marker_slots(self, highlight=0):
+        slots = self.slots(self.marker_rule, DIMMED_SLOT)
+        if highlight:
+            slots = np.where(self.marker_rule == highlight, slots, DIMMED_SLOT)
+        return slots
+
+    def counts(self):
+        """{symbol: (instances at this level, streets they hold)} of the rules present."""
+        instances = dict(zip(*np.unique(self.marker_rule, return_counts=True)))
+        streets = dict(zip(*np.unique(self.edge_rule[self.edge_rule > 0], return_counts=True)))
+        return {int(s): (int(instances.get(s, 0)), int(streets.get(s, 0)))
+                for s in sorted(set(instances) | set(streets))}
+
+
+_cache = {"key": None, "streets": None, "views": {}}
+
+
+def forget_cache():
+    _cache["key"], _cache["streets"] = None, None
+    _cache["views"].clear()
+
+
+def level_view(text, level):
+    """The LevelView of ``level`` of the grammar in the Text ``text`` (cached by content).
+    Raises DisplayError (or native.NativeModuleError)."""
+    ggg = native.load()
+    try:
+        parsed = grammar.parse_text(text)
+    except ggg.Error as ex:
+        raise DisplayError("The grammar text '{}' is not a valid grammar: {}".format(text.name, ex)) from ex
+    if not parsed.learned:
+        raise DisplayError("The grammar '{}' was not learned from a road graph".format(parsed.name))
+    if not 0 <= level <= parsed.levels:
+        raise DisplayError("The grammar '{}' has levels 0 to {}, not {}".format(parsed.name, parsed.levels, level))
+    key = (text.name_full, text.as_string())
+    if _cache["key"] != key:
+        forget_cache()
+        try:
+            _cache["streets"] = ggg.decode(parsed)
+        except ggg.Error as ex:
+            raise DisplayError("Cannot decode the grammar '{}': {}".format(parsed.name, ex)) from ex
+        _cache["key"] = key
+    views = _cache["views"]
+    if level not in views:
+        try:
+            views[level] = LevelView(ggg, parsed, level, _cache["streets"])
+        except ggg.Error as ex:
+            raise DisplayError("Cannot encode the grammar '{}' to level {}: {}".format(parsed.name, level, ex)) from ex
+    return views[level]
+
+
+# --- the display object ------------------------------------------------------------------
+
+def rules_object(graph_obj):
+    """The child of ``graph_obj`` that shows its learned grammar's levels, else None."""
+    return next((child for child in graph_obj.children if child.get(OBJECT_KEY)), None)
+
+
+def find_modifier(obj):
+    return next((m for m in obj.modifiers if m.type == 'NODES' and m.node_group is not None
+                 and m.node_group.get(MARKER) is not None), None)
+
+
+def _widths(highway):
+    """Default width of each street's class (the add-on's preferences where filled in)."""
+    ggg = native.load()
+    defaults = dict(ggg.default_widths())
+    try:
+        defaults.update({item.name: item.width for item in preferences.get(bpy.context).class_widths})
+    except (KeyError, AttributeError):  # the add-on is not enabled under its package name
+        pass
+    table = np.array([defaults.get(name, 6.0) for name in ggg.highway_classes()], dtype=np.float64)
+    return table[np.clip(np.asarray(highway, dtype=np.int64), 0, len(table) - 1)] if len(table) else \
+        np.full(len(highway), 6.0)
+
+
+def show(graph_obj, view, highlight=0):
+    """Write ``view`` (a LevelView) into the rules object of ``graph_obj`` (made when
+    missing), the rule with symbol ``highlight`` (0: none) highlighted: its streets and
+    nonterminals in its colour, the others neutral. Returns the rules object."""
+    child = ensure_object(graph_obj)
+    street_count = len(view.positions)
+    points = np.concatenate((view.positions, view.marker_positions)) if len(view.marker_positions) \
+        else view.positions
+    zeros = np.zeros(street_count, dtype=np.int64)
+    mesh_build.fill_edge_mesh(
+        child.data, points, view.edges,
+        {EDGE_RULE: ('INT', view.edge_rule), EDGE_SLOT: ('INT', view.edge_slots(highlight)),
+         WIDTH: ('FLOAT', _widths(view.highway))},
+        {MARKER_RULE: ('INT', np.concatenate((zeros, view.marker_rule))),
+         MARKER_SLOT: ('INT', np.concatenate((zeros, view.marker_slots(highlight))))})
+    child[LEVEL_KEY] = view.level
+    child[RULE_KEY] = int(highlight)
+    child[STREET_VERTICES_KEY] = street_count
+    child.update_tag()
+    return child
+
+
+def clear(graph_obj):
+    """Remove the rules object of ``graph_obj``."""
+    child = rules_object(graph_obj)
+    if child is not None:
+        child_mesh = child.data
+        bpy.data.objects.remove(child)
+        if child_mesh is not None and child_mesh.users == 0:
+            bpy.data.meshes.remove(child_mesh)
+
+
+def ensure_object(graph_obj):
+    """The rules object of ``graph_obj``: made once, a child at the graph's origin in the
+    graph's collections, with the Road Rules modifier."""
+    child = rules_object(graph_obj)
+    if child is None:
+        name = graph_obj.name + " Rules"
+        child = bpy.data.objects.new(name, bpy.data.meshes.new(name))
+        child[OBJECT_KEY] = 1
+        child.parent = graph_obj
+        child.hide_select = True  # clicks select the graph
+        collections = graph_obj.users_collection or (bpy.context.scene.collection,)
+        for collection in collections:
+            collection.objects.link(child)
+    modifier = find_modifier(child)
+    if modifier is None or modifier.node_group.get(MARKER) != NODE_GROUP_VERSION:
+        if modifier is not None:
+            child.modifiers.remove(modifier)
+        modifier = child.modifiers.new(MODIFIER_NAME, 'NODES')
+        modifier.node_group = node_group()
+    return child
+
+
+def _plain_material(role, name, srgb):
+    for existing in bpy.data.materials:
+        if existing.get(MARKER) == MATERIAL_VERSION and existing.get(ROLE_MARKER) == role:
+            return existing
+    color = (*(pattern_display._to_linear(c) for c in srgb), 1.0)
+    mat = bpy.data.materials.new(name)
+    mat[MARKER] = MATERIAL_VERSION
+    mat[ROLE_MARKER] = role
+    mat.diffuse_color = color
+    mat.use_nodes = True
+    bsdf = mat.node_tree.nodes.get("Principled BSDF")
+    bsdf.inputs["Base Color"].default_value = color
+    bsdf.inputs["Roughness"].default_value = 0.8
+    return mat
+
+
+def slot_material(slot):
+    """The material of colour slot ``slot``: the palette's (shared with pattern_display),
+    or the neutral grey ("Road Rule Street")."""
+    if slot in (NEUTRAL_SLOT, DIMMED_SLOT):
+        return _plain_material("neutral", "Road Rule Street", NEUTRAL_COLOR)
+    return pattern_display.material(slot)
+
+
+def outline_material():
+    return _plain_material("outline", "Road Rule Outline", OUTLINE_COLOR)
+
+
+def node_group():
+    """The shared "Road Rules" node group, created on first use.
+
+    Every street (edge) becomes one point at its middle carrying its direction, length,
+    width and colour slot; a unit quad, raised by Height (and a little more per colour) and
+    with the material of its colour, is instanced on it, turned along it and scaled to
+    (length + width) x width. Every marker vertex (``marker_slot`` > 0) gets a disc of
+    radius Marker Size in its colour on a larger white one, above the streets."""
+    for group in bpy.data.node_groups:
+        if group.bl_idname == 'GeometryNodeTree' and group.get(MARKER) == NODE_GROUP_VERSION:
+            return group
+    _node, _socket = pattern_display._node, pattern_display._socket
+    tree = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
+    tree[MARKER] = NODE_GROUP_VERSION
+    _new_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")
+    for name, default, low, high in (("Width Scale", 1.0, 0.0, 10.0), ("Min Width", 3.0, 0.0, 1000.0),
+                                     ("Height", HEIGHT_M, -1000.0, 1000.0), ("Marker Size", 6.0, 0.0, 1000.0)):
+        socket = _new_socket(tree, 'INPUT', 'NodeSocketFloat', name)
+        socket.default_value, socket.min_value, socket.max_value = default, low, high
+    _new_socket(tree, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
+    nodes, links = tree.nodes, tree.links
+    group_in = _node(nodes, 'NodeGroupInput', (-2000, 0))
+    group_out = _node(nodes, 'NodeGroupOutput', (1400, 0))
+    geometry = group_in.outputs["Geometry"]
+
+    def named_int(name, location):
+        node = _node(nodes, 'GeometryNodeInputNamedAttribute', location, data_type='INT')
+        node.inputs["Name"].default_value = name
+        return _socket(node.outputs, "Attribute")
+
+    # Streets -> points with the street's direction (captured on the edges).
+    edge_vertices = _node(nodes, 'GeometryNodeInputMeshEdgeVertices', (-1600, -500))
+    direction = _node(nodes, 'ShaderNodeVectorMath', (-1400, -500), operation='SUBTRACT')
+    links.new(edge_vertices.outputs["Position 2"], direction.inputs[0])
+    links.new(edge_vertices.outputs["Position 1"], direction.inputs[1])
+    capture = _node(nodes, 'GeometryNodeCaptureAttribute', (-1200, 0), data_type='FLOAT_VECTOR', domain='EDGE')
+    links.new(geometry, capture.inputs["Geometry"])
+    links.new(direction.outputs["Vector"], _socket(capture.inputs, "Value", 'VECTOR'))
+    street_points = _node(nodes, 'GeometryNodeMeshToPoints', (-1000, 0), mode='EDGES')
+    links.new(capture.outputs["Geometry"], street_points.inputs["Mesh"])
+
+    captured = _socket(capture.outputs, "Attribute", 'VECTOR')
+    xyz = _node(nodes, 'ShaderNodeSeparateXYZ', (-1000, -300))
+    links.new(captured, xyz.inputs[0])
+    angle = _node(nodes, 'ShaderNodeMath', (-800, -300), operation='ARCTAN2')
+    links.new(xyz.outputs["Y"], angle.inputs[0])
+    links.new(xyz.outputs["X"], angle.inputs[1])
+    rotation = _node(nodes, 'ShaderNodeCombineXYZ', (-600, -300))
+    links.new(angle.outputs[0], rotation.inputs["Z"])
+    length = _node(nodes, 'ShaderNodeVectorMath', (-800, -500), operation='LENGTH')
+    links.new(captured, length.inputs[0])
+    width = _node(nodes, 'GeometryNodeInputNamedAttribute', (-1000, -700), data_type='FLOAT')
+    width.inputs["Name"].default_value = WIDTH
+    scaled = _node(nodes, 'ShaderNodeMath', (-800, -700), operation='MULTIPLY')
+    links.new(_socket(width.outputs, "Attribute"), scaled.inputs[0])
+    links.new(group_in.outputs["Width Scale"], scaled.inputs[1])
+    ribbon_width = _node(nodes, 'ShaderNodeMath', (-600, -700), operation='MAXIMUM')
+    links.new(scaled.outputs[0], ribbon_width.inputs[0])
+    links.new(group_in.outputs["Min Width"], ribbon_width.inputs[1])
+    ribbon_length = _node(nodes, 'ShaderNodeMath', (-600, -500), operation='ADD')
+    links.new(length.outputs["Value"], ribbon_length.inputs[0])
+    links.new(ribbon_width.outputs[0], ribbon_length.inputs[1])
+    scale = _node(nodes, 'ShaderNodeCombineXYZ', (-400, -500))
+    scale.inputs["Z"].default_value = 1.0
+    links.new(ribbon_length.outputs[0], scale.inputs["X"])
+    links.new(ribbon_width.outputs[0], scale.inputs["Y"])
+    quad = _node(nodes, 'GeometryNodeMeshGrid', (-1000, 400))
+    quad.inputs["Size X"].default_value = 1.0
+    quad.inputs["Size Y"].default_value = 1.0
+    quad.inputs["Vertices X"].default_value = 2
+    quad.inputs["Vertices Y"].default_value = 2
+
+    # Marker vertices -> points; a disc (and its outline) of radius Marker Size.
+    marker_slot = named_int(MARKER_SLOT, (-1400, 800))
+    is_marker = _node(nodes, 'FunctionNodeCompare', (-1200, 800), data_type='INT', operation='GREATER_THAN')
+    links.new(marker_slot, _socket(is_marker.inputs, "A", 'INT'))
+    _socket(is_marker.inputs, "B", 'INT').default_value = 0
+    marker_points = _node(nodes, 'GeometryNodeMeshToPoints', (-1000, 800), mode='VERTICES')
+    links.new(geometry, marker_points.inputs["Mesh"])
+    links.new(_socket(is_marker.outputs, "Result"), marker_points.inputs["Selection"])
+    disc = _node(nodes, 'GeometryNodeMeshCircle', (-1000, 1100), fill_type='NGON')
+    disc.inputs["Vertices"].default_value = 20
+    disc.inputs["Radius"].default_value = 1.0
+    marker_scale = _node(nodes, 'ShaderNodeCombineXYZ', (-800, 1000))
+    marker_scale.inputs["Z"].default_value = 1.0
+    links.new(group_in.outputs["Marker Size"], marker_scale.inputs["X"])
+    links.new(group_in.outputs["Marker Size"], marker_scale.inputs["Y"])
+    # The outline: larger in x and y only (a z scale would lift it above the disc).
+    outline_size = _node(nodes, 'ShaderNodeMath', (-800, 1200), operation='MULTIPLY')
+    links.new(group_in.outputs["Marker Size"], outline_size.inputs[0])
+    outline_size.inputs[1].default_value = OUTLINE_SCALE
+    outline_scale = _node(nodes, 'ShaderNodeCombineXYZ', (-600, 1200))
+    outline_scale.inputs["Z"].default_value = 1.0
+    links.new(outline_size.outputs[0], outline_scale.inputs["X"])
+    links.new(outline_size.outputs[0], outline_scale.inputs["Y"])
+
+    join = _node(nodes, 'GeometryNodeJoinGeometry', (1100, 0))
+    street_slot = named_int(EDGE_SLOT, (-400, -900))
+
+    def instances(points, slot_field, slot, mesh, mat, lift, scale_socket, rotation_socket, y):
+        """Instance ``mesh`` (material ``mat``, raised by Height + ``lift``) on the ``points``
+        whose ``slot_field`` is ``slot`` (None: all of them)."""
+        height = _node(nodes, 'ShaderNodeMath', (-200, y), operation='ADD')
+        links.new(group_in.outputs["Height"], height.inputs[0])
+        height.inputs[1].default_value = lift
+        offset = _node(nodes, 'ShaderNodeCombineXYZ', (0, y))
+        links.new(height.outputs[0], offset.inputs["Z"])
+        raised = _node(nodes, 'GeometryNodeTransform', (200, y))
+        links.new(mesh, raised.inputs["Geometry"])
+        links.new(offset.outputs[0], raised.inputs["Translation"])
+        set_material = _node(nodes, 'GeometryNodeSetMaterial', (400, y))
+        set_material.inputs["Material"].default_value = mat
+        links.new(raised.outputs["Geometry"], set_material.inputs["Geometry"])
+        instance = _node(nodes, 'GeometryNodeInstanceOnPoints', (700, y))
+        links.new(points, instance.inputs["Points"])
+        if slot is not None:
+            is_slot = _node(nodes, 'FunctionNodeCompare', (400, y - 150), data_type='INT', operation='EQUAL')
+            links.new(slot_field, _socket(is_slot.inputs, "A", 'INT'))
+            _socket(is_slot.inputs, "B", 'INT').default_value = slot
+            links.new(_socket(is_slot.outputs, "Result"), instance.inputs["Selection"])
+        links.new(set_material.outputs["Geometry"], instance.inputs["Instance"])
+        if rotation_socket is not None:
+            links.new(rotation_socket, instance.inputs["Rotation"])
+        links.new(scale_socket, instance.inputs["Scale"])
+        links.new(instance.outputs["Instances"], join.inputs["Geometry"])
+
+    y = -1000
+    for slot in range(NEUTRAL_SLOT, PALETTE_SIZE + 1):
+        instances(street_points.outputs["Points"], street_slot, slot, quad.outputs["Mesh"], slot_material(slot),
+                  SLOT_STEP_M * slot, scale.outputs[0], rotation.outputs[0], y)
+        y -= 260
+    top = SLOT_STEP_M * (PALETTE_SIZE + 1) + MARKER_LIFT_M
+    y = 1400
+    instances(marker_points.outputs["Points"], None, None, disc.outputs["Mesh"], outline_material(), top,
+              outline_scale.outputs[0], None, y)
+    for slot in range(1, DIMMED_SLOT + 1):
+        y += 260
+        instances(marker_points.outputs["Points"], marker_slot, slot, disc.outputs["Mesh"], slot_material(slot),
+                  top + SLOT_STEP_M, marker_scale.outputs[0], None, y)
+    links.new(join.outputs["Geometry"], group_out.inputs["Geometry"])
+    return tree

@@ -1,0 +1,51 @@
+#pragma once
+// How alike two street networks are, as distributions a planner would look at: vertex
+// degree (how streets meet), edge length, street orientation (Boeing's street-orientation
+// entropy: 36 bins of 10 degrees, weighted by length, both directions of every street) and
+// block (face) area. Each distance is 0 for the same distribution and at most 1:
+//  - degree: total variation distance between the degree histograms;
+//  - edge length and block area: the Kolmogorov-Smirnov statistic (the largest gap
+//    between the two cumulative distributions), which no change of units affects;
+//  - orientation: total variation distance between the orientation histograms, after
+//    turning one by the multiple of 10 degrees that matches them best, since a grid city
+//    turned by 30 degrees has the same street pattern.
+#include <cstddef>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ggg/geometric_graph.hpp"
+
+namespace ggg {
+
+struct StreetStatistics {
+    std::size_t vertices = 0;
+    std::size_t edges = 0;
+    std::vector<double> degree_histogram;      // share of vertices of degree 0, 1, ... 7, 8 or more
+    std::vector<double> edge_lengths_m;        // sorted, one per edge (along its polyline)
+    std::vector<double> orientation_histogram; // 36 shares, bin i = bearings [10 i, 10 i + 10) degrees
+    double orientation_entropy = 0.0;          // nats; log 4 = 1.386 for a perfect grid, log 36 = 3.584 at most
+    // Boeing's orientation order: 1 for a perfect grid, 0 for uniformly spread bearings.
+    double orientation_order = 0.0;
+    std::vector<double> block_areas_m2;        // sorted, the bounded faces
+};
+
+StreetStatistics street_statistics(const GeometricGraph& graph);
+
+struct NetworkDistances {
+    double degree = 0.0;
+    double edge_length = 0.0;
+    double orientation = 0.0;
+    double block_area = 0.0;
+    // The four averaged: one number for "how alike".
+    double mean() const { return (degree + edge_length + orientation + block_area) / 4.0; }
+};
+
+NetworkDistances network_distances(const StreetStatistics& a, const StreetStatistics& b);
+
+// `ggg compare`'s output: {"distances": {degree, edge_length, orientation, block_area, mean},
+// "a": summary, "b": summary} with vertices, edges, mean degree, median edge length,
+// orientation entropy and order, blocks and median block area of each.
+nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b);
+
+} // namespace ggg

@@ -1,0 +1,141 @@
+// Street-network statistics and their distances; see network_comparison.hpp.
+#include "ggg/measures/network_comparison.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ggg/planar_faces.hpp"
+
+namespace ggg {
+
+namespace {
+
+constexpr int kDegreeBins = 9;       // 0 .. 7, and 8 or more
+constexpr int kOrientationBins = 36; // 10 degrees each
+
+double entropy(const std::vector<double>& shares) {
+    double h = 0.0;
+    for (double p : shares) {
+        if (p > 0) h -= p * std::log(p);
+    }
+    return h;
+}
+
+double total_variation(const std::vector<double>& p, const std::vector<double>& q, std::size_t shift = 0) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) sum += std::abs(p[i] - q[(i + shift) % q.size()]);
+    return 0.5 * sum;
+}
+
+// Largest gap between the empirical cumulative distributions of two sorted samples; 1
+// when exactly one of them is empty, 0 when both are.
+double kolmogorov_smirnov(const std::vector<double>& a, const std::vector<double>& b) {
+    if (a.empty() || b.empty()) return a.empty() == b.empty() ? 0.0 : 1.0;
+    std::size_t i = 0, j = 0;
+    double gap = 0.0;
+    while (i < a.size() && j < b.size()) {
+        const double x = std::min(a[i], b[j]);
+        while (i < a.size() && a[i] <= x) ++i;
+        while (j < b.size() && b[j] <= x) ++j;
+        gap = std::max(gap, std::abs(static_cast<double>(i) / static_cast<double>(a.size()) - static_cast<double>(j) / static_cast<double>(b.size())));
+    }
+    return gap;
+}
+
+double median(const std::vector<double>& sorted) {
+    if (sorted.empty()) return 0.0;
+    const std::size_t n = sorted.size();
+    return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+}
+
+nlohmann::json summary(const StreetStatistics& s) {
+    double mean_degree = 0.0;
+    for (int d = 0; d < kDegreeBins; ++d) mean_degree += d * s.degree_histogram[static_cast<std::size_t>(d)];
+    return {{"vertices", s.vertices},
+            {"edges", s.edges},
+            {"mean_degree", mean_degree},
+            {"median_edge_length_m", median(s.edge_lengths_m)},
+            {"orientation_entropy", s.orientation_entropy},
+            {"orientation_order", s.orientation_order},
+            {"blocks", s.block_areas_m2.size()},
+            {"median_block_area_m2", median(s.block_areas_m2)}};
+}
+
+} // namespace
+
+StreetStatistics street_statistics(const GeometricGraph& g) {
+    StreetStatistics s;
+    s.vertices = g.vertex_count();
+    s.edges = g.edge_count();
+    s.degree_histogram.assign(kDegreeBins, 0.0);
+    if (g.vertex_count()) {
+        const Adjacency adj(g);
+        for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+            ++s.degree_histogram[std::min<std::size_t>(kDegreeBins - 1, adj.degree(static_cast<VertexId>(v)))];
+        }
+        for (double& share : s.degree_histogram) share /= static_cast<double>(g.vertex_count());
+    }
+    s.orientation_histogram.assign(kOrientationBins, 0.0);
+    double total = 0.0;
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        const auto id = static_cast<EdgeId>(e);
+        s.edge_lengths_m.push_back(g.edge_length(id));
+        // Every piece of the polyline, by length, in both directions (a street runs both ways).
+        const Vec2* p = g.geometry_begin(id);
+        for (std::size_t i = 0; i + 1 < g.geometry_size(id); ++i) {
+            const Vec2 d = p[i + 1] - p[i];
+            const double length = d.norm();
+            if (length <= 0) continue;
+            double bearing = std::atan2(d.x(), d.y()) * 180.0 / M_PI; // from north, clockwise
+            if (bearing < 0) bearing += 360.0;
+            for (double b : {bearing, std::fmod(bearing + 180.0, 360.0)}) {
+                s.orientation_histogram[std::min<std::size_t>(kOrientationBins - 1, static_cast<std::size_t>(b / 10.0))] += length;
+            }
+            total += 2 * length;
+        }
+    }
+    if (total > 0) {
+        for (double& share : s.orientation_histogram) share /= total;
+    }
+    std::sort(s.edge_lengths_m.begin(), s.edge_lengths_m.end());
+    s.orientation_entropy = total > 0 ? entropy(s.orientation_histogram) : 0.0;
+    const double grid = std::log(4.0), most = std::log(static_cast<double>(kOrientationBins));
+    const double x = (s.orientation_entropy - grid) / (most - grid);
+    s.orientation_order = total > 0 ? 1.0 - std::clamp(x, 0.0, 1.0) * std::clamp(x, 0.0, 1.0) : 0.0;
+    if (g.edge_count()) {
+        const PlanarFaces faces = planar_faces(g);
+        for (double area : faces.face_area) {
+            if (area > 0) s.block_areas_m2.push_back(area);
+        }
+        std::sort(s.block_areas_m2.begin(), s.block_areas_m2.end());
+    }
+    return s;
+}
+
+NetworkDistances network_distances(const StreetStatistics& a, const StreetStatistics& b) {
+    NetworkDistances d;
+    d.degree = total_variation(a.degree_histogram, b.degree_histogram);
+    d.edge_length = kolmogorov_smirnov(a.edge_lengths_m, b.edge_lengths_m);
+    d.orientation = 1.0;
+    for (std::size_t shift = 0; shift < kOrientationBins; ++shift) {
+        d.orientation = std::min(d.orientation, total_variation(a.orientation_histogram, b.orientation_histogram, shift));
+    }
+    d.block_area = kolmogorov_smirnov(a.block_areas_m2, b.block_areas_m2);
+    return d;
+}
+
+nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b) {
+    const StreetStatistics sa = street_statistics(a);
+    const StreetStatistics sb = street_statistics(b);
+    const NetworkDistances d = network_distances(sa, sb);
+    return {{"distances",
+             {{"degree", d.degree},
+              {"edge_length", d.edge_length},
+              {"orientation", d.orientation},
+              {"block_area", d.block_area},
+              {"mean", d.mean()}}},
+            {"a", summary(sa)},
+            {"b", summary(sb)}};
+}
+
+} // namespace ggg
