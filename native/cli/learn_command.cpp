@@ -38,8 +38,12 @@ void LearnCommand::add_to(CLI::App& app) {
     c.add_option("INPUT", input_, "Input road graph (OSM, GeoJSON or .ggraph)")->required();
     c.add_option("-o,--output", output_, "Grammar file to write (.json)")->required();
     c.add_flag("--lossless", lossless_, "Store per-vertex residuals: decoding gives back exactly the input's edges and positions");
-    c.add_option("--levels", levels_, "Most levels of hierarchy (0 = until nothing repeats)")->check(CLI::Range(0, 100000))->capture_default_str();
+    c.add_option("--levels", levels_, "Most passes of the encoder, each adding at most one level of hierarchy (0 = until nothing repeats)")->check(CLI::Range(0, 100000))->capture_default_str();
     c.add_option("--stats", stats_path_, "Also write the stats to this JSON file");
+    c.add_option("--max-shape-error", max_shape_error_,
+                 "Leave out copies farther than this from the pattern's shape (RMS, relative to its size; 0 = keep all)")
+        ->check(CLI::Range(0.0, 10.0))
+        ->capture_default_str();
     import_.add_to(c);
     analysis_.max_order = LearnOptions::default_analysis().detection.max_order;
     analysis_.add_to(c);
@@ -50,6 +54,7 @@ int LearnCommand::run() const {
     options.analysis = analysis_.options();
     options.lossless = lossless_;
     options.max_levels = levels_;
+    options.max_shape_error = max_shape_error_;
     check_options(options);
     const auto t0 = std::chrono::steady_clock::now();
     const GeometricGraph graph = read_graph(input_, import_.options(), nullptr, terminal_progress());

@@ -6,6 +6,7 @@
 
 #include "analyze_command.hpp"
 #include "cli_common.hpp"
+#include "ggg/encoding/grammar_encoder.hpp"
 
 namespace ggg::cli {
 
@@ -25,6 +26,7 @@ private:
     AnalysisFlags analysis_;
     bool lossless_ = false;
     int levels_ = 64;
+    double max_shape_error_ = LearnOptions{}.max_shape_error;
 };
 
 class DecodeCommand {

@@ -44,7 +44,8 @@ void bind_learning(py::module_& m) {
         py::arg("progress") = py::none(),
         "Learn a grammar of the road graph: returns (Grammar, stats dict as `ggg learn` prints it).\n"
         "lossless=True stores per-vertex residuals so that decode() gives back exactly the graph's edges and\n"
-        "positions (within 1e-6 m). levels: most levels of hierarchy (0 = until nothing repeats). The analysis\n"
+        "positions (within 1e-6 m). levels: most passes of the encoder, each adding at most one level of\n"
+        "hierarchy (0 = until nothing repeats). The analysis\n"
         "options are those of ggg.analyze; min_aspect / min_leaves / min_irregularity constrain the patterns\n"
         "that become rules. progress(fraction, message) is called per level and may return False to cancel.");
 

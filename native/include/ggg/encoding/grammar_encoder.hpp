@@ -37,7 +37,8 @@ struct LearnOptions {
     // The analysis run at every level (grid, cut, max order, scale mode, constraints...).
     AnalyzeOptions analysis = default_analysis();
     bool lossless = false;
-    // Most levels of hierarchy; 0 = until nothing repeats.
+    // Most passes of the encoder (each adds at most one level of hierarchy); 0 = until
+    // nothing repeats.
     int max_levels = 64;
     // Lossless residuals are multiples of this; a power of ten between 1e-9 and 1e-3 m.
     // Rounding each coordinate to it moves a vertex by at most 0.71 quantum.
@@ -94,7 +95,7 @@ struct LearnResult {
     double analysis_seconds = 0.0;
     double encoding_seconds = 0.0; // building rules, the graphs of each level, residuals, embedding
     // Sizes of what both sides hold, written by the same JSON writer without indentation:
-    // the input as columns of vertex positions (rounded to 0.1 um), edges and road classes,
+    // the input as columns of vertex positions (rounded to the quantum), edges and road classes,
     // and the grammar file as write_grammar writes it. See docs/learning.md.
     std::size_t original_bytes = 0;
     std::size_t encoded_bytes = 0;
@@ -115,6 +116,6 @@ LearnResult learn_grammar(const GeometricGraph& graph, const LearnOptions& optio
 nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& result);
 
 // The size measure of LearnResult::original_bytes for any graph.
-std::size_t graph_structure_bytes(const GeometricGraph& graph, double quantum_m = 1e-7);
+std::size_t graph_structure_bytes(const GeometricGraph& graph, double quantum_m = LearnOptions{}.quantum_m);
 
 } // namespace ggg
