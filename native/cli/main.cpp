@@ -17,7 +17,9 @@
 #include "ggg/error.hpp"
 #include "ggg/graph_info.hpp"
 #include "ggg/io/grammar_file.hpp"
+#include "ggg/io/geojson.hpp"
 #include "ggg/measures/network_comparison.hpp"
+#include "ggg/synthesis/growth.hpp"
 #include "ggg/io/read_graph.hpp"
 #include "ggg/rewriting.hpp"
 
@@ -93,6 +95,20 @@ int main(int argc, char** argv) {
     learn.add_to(app);
     ggg::cli::DecodeCommand decode;
     decode.add_to(app);
+    std::string grow_grammar, grow_region_path, grow_base;
+    ggg::GrowOptions grow_options;
+    auto* grow = app.add_subcommand("grow", "Grow streets into a region with a grammar's rules, from the streets that reach it; prints JSON");
+    grow->add_option("GRAMMAR", grow_grammar, "Grammar file (.json), e.g. one learned by ggg learn")->required();
+    grow->add_option("--region", grow_region_path, "GeoJSON file with the region's Polygon (longitude, latitude)")->required();
+    grow->add_option("--base", grow_base, "Road graph the region lies in (OSM, GeoJSON or .ggraph); its streets are kept and grown from");
+    grow->add_option("-o,--output", output, "Output file: .geojson or .ggraph (the base with the grown streets)")->required();
+    grow->add_option("--seed", grow_options.seed, "Seed of the random choices: the same seed gives the same streets")->capture_default_str();
+    grow->add_option("--max-placements", grow_options.max_placements, "Most rules placed")->check(CLI::PositiveNumber)->capture_default_str();
+    grow->add_option("--max-vertices", grow_options.max_vertices, "Most vertices in the result")->check(CLI::PositiveNumber)->capture_default_str();
+    grow->add_option("--patience", grow_options.patience, "Failed placements in a row after which the region counts as full")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    import_flags.add_to(*grow);
     std::string compare_a, compare_b;
     auto* compare = app.add_subcommand("compare", "How alike two street networks are: distances of their degree, edge length, "
                                                   "orientation and block area distributions (0 = same); prints JSON");
@@ -113,6 +129,38 @@ int main(int argc, char** argv) {
 
     try {
         if (learn.chosen()) return learn.run();
+        if (*grow) {
+            const ggg::Grammar grammar = ggg::read_grammar(grow_grammar);
+            ggg::GeometricGraph base;
+            if (!grow_base.empty()) {
+                base = ggg::read_graph(grow_base, import_flags.options());
+            } else {
+                base.origin = grammar.origin.lat != 0 || grammar.origin.lon != 0 ? grammar.origin : ggg::geojson_region_centre(grow_region_path);
+            }
+            const std::vector<ggg::Vec2> region = ggg::read_geojson_region(grow_region_path, base.origin);
+            ggg::GrowReport report;
+            const auto start = std::chrono::steady_clock::now();
+            const ggg::GeometricGraph grown = ggg::grow_region(base, grammar, region, grow_options, &report, terminal_progress());
+            const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - start;
+            ggg::write_graph(grown, output);
+            std::cout << nlohmann::json{{"vertices", grown.vertex_count()},
+                                        {"edges", grown.edge_count()},
+                                        {"placements", report.placements},
+                                        {"attempts", report.attempts},
+                                        {"added_vertices", report.added_vertices},
+                                        {"added_edges", report.added_edges},
+                                        {"border_connections", report.border_connections},
+                                        {"closing_edges", report.closing_edges},
+                                        {"rejected", {{"outside", report.rejected_outside},
+                                                      {"crossing", report.rejected_crossing},
+                                                      {"crowded", report.rejected_crowded}}},
+                                        {"filled", report.filled},
+                                        {"stopped_by_budget", report.stopped_by_budget},
+                                        {"seconds", seconds.count()}}
+                             .dump()
+                      << std::endl;
+            return 0;
+        }
         if (*compare) {
             const ggg::GeometricGraph a = ggg::read_graph(compare_a, import_flags.options());
             const ggg::GeometricGraph b = ggg::read_graph(compare_b, import_flags.options());

@@ -1,7 +1,13 @@
-// ggg.compare: how alike two street networks are; and the JSON-to-Python conversion the
-// bindings that return reports share.
+// ggg.compare (how alike two street networks are) and ggg.grow_region (streets grown into a
+// region with a grammar); and the JSON-to-Python conversion the bindings that return
+// reports share.
+#include <pybind11/stl.h>
+
 #include "common.hpp"
+#include "ggg/error.hpp"
+#include "ggg/grammar.hpp"
 #include "ggg/measures/network_comparison.hpp"
+#include "ggg/synthesis/growth.hpp"
 
 namespace ggg::python {
 
@@ -29,6 +35,49 @@ py::object to_python(const nlohmann::json& j) {
 
 
 void bind_measures(py::module_& m) {
+    using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+    m.def(
+        "grow_region",
+        [](const GeometricGraph& base, const Grammar& grammar, DoubleArray region, std::uint64_t seed, std::size_t max_placements,
+           std::size_t max_vertices, std::size_t patience, std::optional<std::vector<std::tuple<Symbol, double, double, double, double>>> placements,
+           std::optional<py::function> progress) {
+            if (region.ndim() != 2 || region.shape(1) != 2) throw UsageError("region must have shape (N, 2): the polygon's corners in metres");
+            std::vector<Vec2> ring;
+            const auto r = region.unchecked<2>();
+            for (py::ssize_t i = 0; i < r.shape(0); ++i) ring.emplace_back(r(i, 0), r(i, 1));
+            GrowOptions o;
+            o.seed = seed;
+            o.max_placements = max_placements;
+            o.max_vertices = max_vertices;
+            o.patience = patience;
+            if (placements) {
+                for (const auto& [symbol, x, y, scale, rotation] : *placements) o.placements.push_back({symbol, Vec2(x, y), Frame{scale, rotation}});
+            }
+            PythonProgress reporter(std::move(progress));
+            GrowReport report;
+            GeometricGraph grown = reporter.run([&](const ProgressCallback& cb) { return grow_region(base, grammar, ring, o, &report, cb); });
+            py::dict d;
+            d["placements"] = report.placements;
+            d["attempts"] = report.attempts;
+            d["added_vertices"] = report.added_vertices;
+            d["added_edges"] = report.added_edges;
+            d["border_connections"] = report.border_connections;
+            d["closing_edges"] = report.closing_edges;
+            d["rejected_outside"] = report.rejected_outside;
+            d["rejected_crossing"] = report.rejected_crossing;
+            d["rejected_crowded"] = report.rejected_crowded;
+            d["filled"] = report.filled;
+            d["stopped_by_budget"] = report.stopped_by_budget;
+            return py::make_tuple(std::move(grown), d);
+        },
+        py::arg("base"), py::arg("grammar"), py::arg("region"), py::arg("seed") = 1, py::arg("max_placements") = GrowOptions{}.max_placements,
+        py::arg("max_vertices") = GrowOptions{}.max_vertices, py::arg("patience") = GrowOptions{}.patience,
+        py::arg("placements") = py::none(), py::arg("progress") = py::none(),
+        "Grow streets into `region` ((N,2) polygon corners in the base graph's metres) with the grammar's rules, from the\n"
+        "streets of `base` that reach it (or the region's middle). placements: rules placed by hand, (symbol, x, y, scale,\n"
+        "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. Returns (Graph, report dict): the base\n"
+        "with the grown streets after its own vertices and edges. Deterministic for a seed.");
+
     m.def(
         "compare",
         [](const GeometricGraph& a, const GeometricGraph& b) {

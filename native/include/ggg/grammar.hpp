@@ -54,6 +54,9 @@ struct Rule {
     std::vector<RuleVertex> vertices;
     std::vector<GrammarEdge> edges;
     std::uint64_t uses = 0; // how often the rule occurs (learned grammars); 0 = unknown
+    // Metres per unit of the rule's coordinates in its instances (their median; learned
+    // grammars), the size at which to place it by hand or in growth; 0 = unknown.
+    double size_m = 0.0;
     bool operator==(const Rule&) const = default;
 };
 

@@ -344,6 +344,10 @@ private:
                 encoded_.push_back(std::move(ri));
                 occurrence_of_.push_back(occ);
             }
+            std::vector<double> sizes;
+            for (std::size_t c = instances_.size() - occs.size(); c < instances_.size(); ++c) sizes.push_back(instances_[c].fit.scale());
+            std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
+            draft.rule.size_m = round_significant(sizes[sizes.size() / 2], 4);
             lr.instances += occs.size();
             ++lr.rules;
             rules_.push_back(std::move(draft));

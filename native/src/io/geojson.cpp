@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
@@ -214,6 +215,76 @@ GeometricGraph read_geojson(const nlohmann::json& doc, const std::string& name, 
     } catch (const InputError& e) {
         throw InputError(name + ": " + e.what());
     }
+}
+
+} // namespace ggg
+
+namespace ggg {
+
+namespace {
+
+// The first polygon's outer ring, in longitude and latitude, found depth first through
+// FeatureCollections, Features, GeometryCollections and MultiPolygons.
+bool find_ring(const nlohmann::json& j, std::vector<Vec2>& ring, const std::string& name) {
+    if (!j.is_object() || !j.contains("type") || !j["type"].is_string()) return false;
+    const std::string type = j["type"].get<std::string>();
+    auto take = [&](const nlohmann::json& rings) {
+        if (!rings.is_array() || rings.empty() || !rings[0].is_array()) throw InputError(name + ": a Polygon needs an array of rings");
+        for (const auto& c : rings[0]) {
+            if (!c.is_array() || c.size() < 2 || !c[0].is_number() || !c[1].is_number()) {
+                throw InputError(name + ": a polygon corner must be [longitude, latitude]");
+            }
+            ring.emplace_back(c[0].get<double>(), c[1].get<double>());
+        }
+        if (ring.size() >= 2 && ring.front() == ring.back()) ring.pop_back();
+        if (ring.size() < 3) throw InputError(name + ": the region's polygon has fewer than three corners");
+        for (const Vec2& p : ring) {
+            if (!p.allFinite() || std::abs(p.x()) > 180 || std::abs(p.y()) > 90) throw InputError(name + ": a corner of the region is not a longitude and latitude");
+        }
+        return true;
+    };
+    if (type == "Polygon") return take(j.value("coordinates", nlohmann::json()));
+    if (type == "MultiPolygon") {
+        const auto& c = j.value("coordinates", nlohmann::json());
+        if (!c.is_array() || c.empty()) throw InputError(name + ": an empty MultiPolygon");
+        return take(c[0]);
+    }
+    if (type == "Feature") return j.contains("geometry") && find_ring(j["geometry"], ring, name);
+    const char* list = type == "FeatureCollection" ? "features" : type == "GeometryCollection" ? "geometries" : nullptr;
+    if (list && j.contains(list) && j[list].is_array()) {
+        for (const auto& item : j[list]) {
+            if (find_ring(item, ring, name)) return true;
+        }
+    }
+    return false;
+}
+
+std::vector<Vec2> region_lonlat(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": no such file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    std::vector<Vec2> ring;
+    if (!find_ring(io_detail::parse<InputError>(text.str(), path), ring, path)) {
+        throw InputError(path + ": no Polygon in the file (a region is a GeoJSON Polygon or MultiPolygon)");
+    }
+    return ring;
+}
+
+} // namespace
+
+GeoOrigin geojson_region_centre(const std::string& path) {
+    const std::vector<Vec2> ring = region_lonlat(path);
+    Vec2 c = Vec2::Zero();
+    for (const Vec2& p : ring) c += p;
+    c /= static_cast<double>(ring.size());
+    return {c.y(), c.x()};
+}
+
+std::vector<Vec2> read_geojson_region(const std::string& path, const GeoOrigin& origin) {
+    std::vector<Vec2> ring = region_lonlat(path);
+    LocalProjection(origin).forward(ring);
+    return ring;
 }
 
 } // namespace ggg

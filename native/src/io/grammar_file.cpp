@@ -103,7 +103,9 @@ json grammar_to_json(const Grammar& g) {
             if (!embedding.empty()) vertex["embedding"] = std::move(embedding);
             vertices.push_back(std::move(vertex));
         }
-        rules.push_back({{"symbol", g.symbol_name(r.symbol)}, {"uses", r.uses}, {"vertices", std::move(vertices)}, {"edges", edges_json(r.edges)}});
+        json rule = {{"symbol", g.symbol_name(r.symbol)}, {"uses", r.uses}, {"vertices", std::move(vertices)}, {"edges", edges_json(r.edges)}};
+        if (r.size_m > 0) rule["size_m"] = r.size_m;
+        rules.push_back(std::move(rule));
     }
     // A learned grammar's axiom can hold most of a city: columns, as in a .ggraph file.
     json axiom;
@@ -324,6 +326,10 @@ Grammar grammar_from_json(const json& doc, const std::string& name) {
         if (const json* uses = r.optional(rules[i], "uses")) {
             if (!uses->is_number_unsigned() && !(uses->is_number_integer() && uses->get<std::int64_t>() >= 0)) r.fail(where + ".uses", "must be a count >= 0");
             rule.uses = uses->get<std::uint64_t>();
+        }
+        if (const json* size = r.optional(rules[i], "size_m")) {
+            rule.size_m = r.number(*size, where + ".size_m");
+            if (rule.size_m < 0) r.fail(where + ".size_m", "must be >= 0");
         }
         const json& vertices = r.array(r.member(rules[i], "vertices", where), where + ".vertices");
         for (std::size_t k = 0; k < vertices.size(); ++k) {

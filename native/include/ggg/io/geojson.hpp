@@ -6,6 +6,7 @@
 // intersections, exactly as shared nodes are in OSM.
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -16,6 +17,13 @@ namespace ggg {
 
 void write_geojson(const GeometricGraph& graph, std::ostream& out);
 void write_geojson(const GeometricGraph& graph, const std::string& path);
+
+// The outer ring of the first Polygon (or MultiPolygon) of a GeoJSON file, in the metres of
+// the local frame centred on `origin` (not closed: the last corner is not repeated). A
+// region to grow streets into. Throws InputError naming the file when there is none.
+std::vector<Vec2> read_geojson_region(const std::string& path, const GeoOrigin& origin);
+// The centre of that ring in longitude and latitude (a frame for a region without a base).
+GeoOrigin geojson_region_centre(const std::string& path);
 
 // `name` is used in error messages (the file name).
 GeometricGraph read_geojson(const std::string& text, const std::string& name, const TopologyOptions& options = {});

@@ -1,0 +1,81 @@
+#pragma once
+// Growing a street network into a region with a grammar's rules (beyond the paper, whose
+// Fig. 18 places rules by hand): the streets that reach the region's border, or rules the
+// user placed, are the frontier; rules chosen by their learned frequencies are placed there
+// one at a time, turned to continue the street they start from, until the region is filled
+// or a budget is met.
+//
+// A placement is a forward derivation (rewriting.hpp) of the rule's nonterminal, put on the
+// frontier vertex, in a copy of the streets around it: one of the rule's vertices lands on
+// the frontier vertex and merges with it, and the relaxed embedding joins the rule to the
+// streets it meets. It is kept only if its new streets stay inside the region, cross no
+// street (old or new) and keep their distance from the streets already there; else it is
+// undone and another rule, vertex or direction is tried. Dead ends left at the end are
+// joined to a vertex close ahead of them where that crosses nothing.
+//
+// Deterministic: the same inputs and seed give the same streets.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "ggg/geometric_graph.hpp"
+#include "ggg/grammar.hpp"
+#include "ggg/progress.hpp"
+
+namespace ggg {
+
+// A rule placed by hand (with the 3D cursor): growth starts from it as well.
+struct RulePlacement {
+    Symbol symbol = 0;
+    Vec2 position = Vec2::Zero();
+    Frame frame; // scale 0 or less: the rule's learned size
+};
+
+struct GrowOptions {
+    std::uint64_t seed = 1;
+    std::size_t max_placements = 200; // rules placed at most
+    std::size_t max_vertices = 200'000; // the whole graph, base included
+    // Placements tried in a row without success after which the region counts as filled.
+    std::size_t patience = 150;
+    // A base vertex this close to the region (metres; < 0: 5 % of the region's size) is a
+    // street that reaches it.
+    double border_m = -1.0;
+    // A placed vertex this close to a street vertex (relative to the rule's size, as the
+    // derivation's tolerance) becomes that vertex: how rules snap onto the streets.
+    double snap = 0.12;
+    // New vertices keep this fraction of the rule's typical edge length from other vertices.
+    double spacing = 0.35;
+    // Random turn (degrees) and relative size change of each placement around its aim.
+    double turn_deg = 20.0;
+    double size_jitter = 0.1;
+    // Size of a rule without a learned size (hand-written grammars), metres per unit.
+    double default_size_m = 100.0;
+    // Join dead ends to a vertex ahead of them within this fraction of the typical edge length.
+    double close_dead_ends = 0.8;
+    std::vector<RulePlacement> placements; // rules placed by hand, grown from first
+};
+
+struct GrowReport {
+    std::size_t placements = 0;      // rules placed (the ones by hand included)
+    std::size_t attempts = 0;
+    std::size_t rejected_outside = 0;  // a new vertex outside the region
+    std::size_t rejected_crossing = 0; // a new street crossing another
+    std::size_t rejected_crowded = 0;  // a new vertex too close to another
+    std::size_t added_vertices = 0;
+    std::size_t added_edges = 0;
+    std::size_t border_connections = 0; // placements that started from a base street
+    std::size_t closing_edges = 0;      // dead ends joined at the end
+    bool filled = false;               // stopped because nothing more fits (or no frontier left)
+    bool stopped_by_budget = false;    // stopped at max_placements or max_vertices
+};
+
+// The base graph with the grown streets added (base vertices and edges keep their ids).
+// `region` is a simple polygon in the base graph's metres (not closed: the last point is not
+// a copy of the first). Throws UsageError for a region with fewer than three points or no
+// area, a grammar without rules, a placement of an unknown symbol, and GrammarError for a
+// malformed grammar.
+GeometricGraph grow_region(const GeometricGraph& base, const Grammar& grammar, const std::vector<Vec2>& region,
+                           const GrowOptions& options = {}, GrowReport* report = nullptr,
+                           const ProgressCallback& progress = {});
+
+} // namespace ggg

@@ -1,0 +1,488 @@
+// Growth of a street network into a region; see growth.hpp.
+#include "ggg/synthesis/growth.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <unordered_map>
+
+#include <boost/geometry.hpp>
+#include <boost/geometry/index/rtree.hpp>
+
+#include "ggg/encoding/decoding.hpp"
+#include "ggg/error.hpp"
+#include "ggg/rewriting.hpp"
+
+namespace ggg {
+namespace {
+
+namespace bg = boost::geometry;
+namespace bgi = boost::geometry::index;
+using Point = bg::model::point<double, 2, bg::cs::cartesian>;
+using Box = bg::model::box<Point>;
+using PointEntry = std::pair<Point, VertexId>;
+using SegmentEntry = std::pair<Box, EdgeId>;
+
+Point point(const Vec2& p) { return {p.x(), p.y()}; }
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// True when segments ab and cd cross or touch anywhere but at an end they share.
+bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    const double eps = 1e-9 * std::max({(b - a).norm(), (d - c).norm(), 1.0});
+    auto same = [&](const Vec2& p, const Vec2& q) { return (p - q).norm() <= eps; };
+    const bool shared = same(a, c) || same(a, d) || same(b, c) || same(b, d);
+    const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
+    const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+    if (((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))) return true;
+    if (shared) return false; // touching at a common end is how streets meet
+    auto on = [&](const Vec2& p, const Vec2& q, const Vec2& r) { // r on segment pq
+        return std::abs(cross(q - p, r - p)) <= eps * (q - p).norm() && (r - p).dot(r - q) <= 0;
+    };
+    return on(a, b, c) || on(a, b, d) || on(c, d, a) || on(c, d, b);
+}
+
+bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
+    bool in = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const Vec2& a = ring[i];
+        const Vec2& b = ring[j];
+        if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
+    }
+    return in;
+}
+
+double distance_to_ring(const std::vector<Vec2>& ring, const Vec2& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const Vec2 d = ring[i] - ring[j];
+        const double t = std::clamp((p - ring[j]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+        best = std::min(best, (ring[j] + t * d - p).norm());
+    }
+    return best;
+}
+
+// A rule derived all the way to streets, at unit size: what one placement adds.
+struct Prototype {
+    Symbol symbol = 0;
+    double size_m = 1.0;
+    double weight = 1.0;
+    std::vector<Vec2> positions;
+    std::vector<std::array<int, 2>> edges;
+    std::vector<int> attach; // vertices that can sit on a frontier vertex: the ends and corners
+    Vec2 centroid = Vec2::Zero();
+    double radius = 0.0;    // farthest vertex from the centroid
+    double edge_length = 0.0; // median
+};
+
+Prototype prototype_of(const Grammar& grammar, const Rule& rule, int depth, const GrowOptions& o) {
+    Prototype p;
+    p.symbol = rule.symbol;
+    p.size_m = rule.size_m > 0 ? rule.size_m : o.default_size_m;
+    p.weight = rule.uses > 0 ? static_cast<double>(rule.uses) : 1.0; // times its edges, below
+    GeometricGraph g;
+    place_nonterminal(g, rule.symbol, Vec2::Zero(), Frame{});
+    DeriveOptions d;
+    d.max_steps = depth + 1;
+    d.max_vertices = 20'000;
+    derive(g, grammar, d);
+    std::vector<int> index(g.vertex_count(), -1);
+    for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+        if (g.symbols[v] != 0) continue; // a nonterminal without a rule stays out
+        index[v] = static_cast<int>(p.positions.size());
+        p.positions.push_back(g.positions[v]);
+    }
+    std::vector<int> degree(p.positions.size(), 0);
+    std::vector<double> lengths;
+    for (const auto& [a, b] : g.edges) {
+        const int x = index[static_cast<std::size_t>(a)], y = index[static_cast<std::size_t>(b)];
+        if (x < 0 || y < 0) continue;
+        p.edges.push_back({x, y});
+        ++degree[static_cast<std::size_t>(x)];
+        ++degree[static_cast<std::size_t>(y)];
+        lengths.push_back((p.positions[static_cast<std::size_t>(x)] - p.positions[static_cast<std::size_t>(y)]).norm());
+    }
+    if (p.positions.empty() || p.edges.empty()) return p;
+    for (const Vec2& v : p.positions) p.centroid += v;
+    p.centroid /= static_cast<double>(p.positions.size());
+    for (const Vec2& v : p.positions) p.radius = std::max(p.radius, (v - p.centroid).norm());
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
+    p.edge_length = lengths[lengths.size() / 2];
+    // A rule is chosen as often as its streets occur in the city it was learned from: a
+    // block of eight streets used 10 times weighs as much as a street used 80 times.
+    p.weight *= static_cast<double>(p.edges.size());
+    for (std::size_t v = 0; v < p.positions.size(); ++v) {
+        if (degree[v] < 3) p.attach.push_back(static_cast<int>(v));
+    }
+    if (p.attach.empty()) {
+        for (std::size_t v = 0; v < p.positions.size(); ++v) p.attach.push_back(static_cast<int>(v));
+    }
+    return p;
+}
+
+// A street a rule can be glued onto: one of the rule's edges is laid on it (the rule's two
+// vertices merge with its ends), on the side the placement chooses.
+struct FrontierEdge {
+    VertexId a = -1;
+    VertexId b = -1;
+    int failures = 0;
+};
+
+class Grower {
+public:
+    Grower(const GeometricGraph& base, const Grammar& grammar, const std::vector<Vec2>& region, const GrowOptions& o,
+           const ProgressCallback& progress)
+        : g_(base), grammar_(grammar), region_(region), o_(o), progress_(progress), rng_(o.seed) {}
+
+    GeometricGraph run(GrowReport& report) {
+        report_ = &report;
+        const std::vector<int> levels = rule_levels(grammar_);
+        const int depth = levels.empty() ? 1 : *std::max_element(levels.begin(), levels.end());
+        for (const Rule& r : grammar_.rules) {
+            Prototype p = prototype_of(grammar_, r, depth, o_);
+            if (p.edges.empty()) continue;
+            weights_.push_back(p.weight);
+            prototypes_.push_back(std::move(p));
+        }
+        if (prototypes_.empty()) throw UsageError("the grammar has no rule that derives to streets: nothing to grow with");
+        depth_ = depth;
+        index_graph();
+        for (const Vec2& p : region_) centre_ += p;
+        centre_ /= static_cast<double>(region_.size());
+        double size = 0.0;
+        for (const Vec2& p : region_) size = std::max(size, (p - centre_).norm());
+        const double border = o_.border_m >= 0 ? o_.border_m : 0.05 * size;
+
+        for (const RulePlacement& placed : o_.placements) place_by_hand(placed);
+        for (std::size_t e = 0; e < base_edges_; ++e) {
+            const auto [u, v] = g_.edges[e];
+            if (near_region(g_.positions[static_cast<std::size_t>(u)], border) || near_region(g_.positions[static_cast<std::size_t>(v)], border)) {
+                frontier_.push_back({u, v, 0});
+            }
+        }
+        if (frontier_.empty()) seed_at_centre();
+
+        std::size_t in_a_row = 0;
+        while (!frontier_.empty()) {
+            if (report.placements >= o_.max_placements || g_.vertex_count() >= o_.max_vertices) {
+                report.stopped_by_budget = true;
+                break;
+            }
+            if (in_a_row >= o_.patience) break;
+            ggg::report(progress_, static_cast<double>(report.placements) / static_cast<double>(std::max<std::size_t>(1, o_.max_placements)),
+                        "placing rules");
+            std::uniform_int_distribution<std::size_t> pick(0, frontier_.size() - 1);
+            const std::size_t f = pick(rng_);
+            if (glue(frontier_[f])) {
+                in_a_row = 0;
+            } else {
+                ++in_a_row;
+                if (++frontier_[f].failures >= 8) {
+                    frontier_[f] = frontier_.back();
+                    frontier_.pop_back();
+                }
+            }
+        }
+        report.filled = !report.stopped_by_budget;
+        close_dead_ends();
+        report.added_vertices = g_.vertex_count() - base_vertices_;
+        report.added_edges = g_.edge_count() - base_edges_;
+        ggg::report(progress_, 1.0, "done");
+        return std::move(g_);
+    }
+
+private:
+    void index_graph() {
+        base_vertices_ = g_.vertex_count();
+        base_edges_ = g_.edge_count();
+        adjacency_.assign(g_.vertex_count(), {});
+        for (std::size_t e = 0; e < g_.edge_count(); ++e) {
+            const auto [a, b] = g_.edges[e];
+            adjacency_[static_cast<std::size_t>(a)].push_back(b);
+            adjacency_[static_cast<std::size_t>(b)].push_back(a);
+            index_edge(static_cast<EdgeId>(e));
+        }
+        for (std::size_t v = 0; v < g_.vertex_count(); ++v) vertices_.insert({point(g_.positions[v]), static_cast<VertexId>(v)});
+    }
+
+    void index_edge(EdgeId e) {
+        const Vec2* p = g_.geometry_begin(e);
+        Box box(point(p[0]), point(p[0]));
+        for (std::size_t i = 1; i < g_.geometry_size(e); ++i) bg::expand(box, point(p[i]));
+        segments_.insert({box, e});
+    }
+
+    bool near_region(const Vec2& p, double border) const { return inside(region_, p) || distance_to_ring(region_, p) <= border; }
+
+    Vec2 principal_axis() const {
+        double sxx = 0, sxy = 0, syy = 0;
+        for (const Vec2& p : region_) {
+            const Vec2 d = p - centre_;
+            sxx += d.x() * d.x();
+            sxy += d.x() * d.y();
+            syy += d.y() * d.y();
+        }
+        const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+        return {std::cos(angle), std::sin(angle)};
+    }
+
+    // One try at the street ab: a rule chosen by its frequency, one of its edges of about
+    // the street's length laid on ab, on one side or the other.
+    bool glue(const FrontierEdge& at) {
+        ++report_->attempts;
+        std::discrete_distribution<std::size_t> rule(weights_.begin(), weights_.end());
+        const Prototype& p = prototypes_[rule(rng_)];
+        const Vec2 a = g_.positions[static_cast<std::size_t>(at.a)];
+        const Vec2 b = g_.positions[static_cast<std::size_t>(at.b)];
+        const double length = (b - a).norm();
+        if (length <= 0) return false;
+        // The rule's edges whose length, at about the rule's size, fits the street.
+        std::vector<std::size_t> fitting;
+        for (std::size_t e = 0; e < p.edges.size(); ++e) {
+            const double l = (p.positions[static_cast<std::size_t>(p.edges[e][1])] - p.positions[static_cast<std::size_t>(p.edges[e][0])]).norm();
+            const double size = length / l;
+            if (l > 0 && size >= (1.0 - 2.0 * o_.size_jitter) * p.size_m / 1.5 && size <= 1.5 * p.size_m / (1.0 - 2.0 * o_.size_jitter)) {
+                fitting.push_back(e);
+            }
+        }
+        if (fitting.empty()) return false;
+        std::uniform_int_distribution<std::size_t> pick(0, fitting.size() - 1);
+        auto [u, v] = p.edges[fitting[pick(rng_)]];
+        if (std::bernoulli_distribution(0.5)(rng_)) std::swap(u, v); // the other side of the street
+        const Vec2 pu = p.positions[static_cast<std::size_t>(u)];
+        const Vec2 d = p.positions[static_cast<std::size_t>(v)] - pu;
+        const double size = length / d.norm();
+        const double angle = std::atan2((b - a).y(), (b - a).x()) - std::atan2(d.y(), d.x());
+        const Vec2 origin = a - Similarity2::from(size, angle, Vec2::Zero()).apply_linear(pu);
+        return place(p, Frame{size, angle * 180.0 / M_PI}, origin, at.a);
+    }
+
+    // No street reaches the region: the most frequent rule goes in its middle, along the
+    // region's long axis.
+    void seed_at_centre() {
+        const auto best = std::max_element(prototypes_.begin(), prototypes_.end(),
+                                           [](const Prototype& x, const Prototype& y) { return x.weight < y.weight; });
+        const Vec2 axis = principal_axis();
+        const double angle = std::atan2(axis.y(), axis.x());
+        const Vec2 origin = centre_ - Similarity2::from(best->size_m, angle, Vec2::Zero()).apply_linear(best->centroid);
+        ++report_->attempts;
+        place(*best, Frame{best->size_m, angle * 180.0 / M_PI}, origin, -1);
+    }
+
+    void place_by_hand(const RulePlacement& placed) {
+        const auto it = std::find_if(prototypes_.begin(), prototypes_.end(), [&](const Prototype& p) { return p.symbol == placed.symbol; });
+        if (it == prototypes_.end()) {
+            throw UsageError("a placed rule has symbol " + std::to_string(placed.symbol) + ", which has no rule deriving to streets");
+        }
+        Frame frame = placed.frame;
+        if (!(frame.scale > 0)) frame.scale = it->size_m;
+        ++report_->attempts;
+        place(*it, frame, placed.position, -1);
+    }
+
+    // Derives the rule at `origin` in a copy of the streets around it and keeps the result
+    // if it fits. True when it was kept.
+    bool place(const Prototype& p, const Frame& frame, const Vec2& origin, VertexId anchor) {
+        const Similarity2 f = frame.at(origin);
+        const double reach = frame.scale * (p.radius + (p.centroid).norm()) + 2.0 * frame.scale * p.edge_length;
+        const Vec2 middle = f.apply(p.centroid);
+        // The streets around, as their own small graph.
+        GeometricGraph local;
+        local.origin = g_.origin;
+        std::vector<VertexId> global_of;
+        std::unordered_map<VertexId, VertexId> local_of;
+        const Box window(Point(middle.x() - reach, middle.y() - reach), Point(middle.x() + reach, middle.y() + reach));
+        for (auto it = vertices_.qbegin(bgi::intersects(window)); it != vertices_.qend(); ++it) {
+            local_of.emplace(it->second, static_cast<VertexId>(local.vertex_count()));
+            local.add_vertex(g_.positions[static_cast<std::size_t>(it->second)]);
+            global_of.push_back(it->second);
+        }
+        for (std::size_t l = 0; l < global_of.size(); ++l) {
+            for (VertexId w : adjacency_[static_cast<std::size_t>(global_of[l])]) {
+                const auto it = local_of.find(w);
+                if (it != local_of.end() && static_cast<std::size_t>(it->second) > l) {
+                    local.add_edge(static_cast<VertexId>(l), it->second, EdgeAttributes{});
+                }
+            }
+        }
+        const std::size_t old_edges = local.edge_count();
+        place_nonterminal(local, p.symbol, origin, frame);
+        DeriveOptions d;
+        d.max_steps = depth_ + 1;
+        d.max_vertices = local.vertex_count() + 20'000;
+        d.tolerance = o_.snap; // relative to the rule's size: vertices this close become one
+        const DeriveReport derived = derive(local, grammar_, d);
+
+        // What the placement adds: new vertices, and edges that were not there.
+        const double typical = frame.scale * p.edge_length;
+        std::vector<VertexId> global(local.vertex_count(), -1);
+        std::vector<std::size_t> fresh;
+        for (std::size_t v = 0; v < local.vertex_count(); ++v) {
+            if (local.symbols[v] != 0) continue;
+            const VertexId s = derived.source_vertex[v];
+            if (s >= 0 && static_cast<std::size_t>(s) < global_of.size()) {
+                global[v] = global_of[static_cast<std::size_t>(s)];
+                continue;
+            }
+            const Vec2& q = local.positions[v];
+            if (!inside(region_, q)) {
+                ++report_->rejected_outside;
+                return false;
+            }
+            for (auto it = vertices_.qbegin(bgi::nearest(point(q), 1)); it != vertices_.qend(); ++it) {
+                if ((g_.positions[static_cast<std::size_t>(it->second)] - q).norm() < o_.spacing * typical) {
+                    ++report_->rejected_crowded;
+                    return false;
+                }
+            }
+            fresh.push_back(v);
+        }
+        if (fresh.empty()) return false;
+        std::vector<std::array<VertexId, 2>> added; // local ids
+        std::vector<HighwayClass> classes;
+        for (std::size_t e = 0; e < local.edge_count(); ++e) {
+            const auto [a, b] = local.edges[e];
+            if (local.symbols[static_cast<std::size_t>(a)] || local.symbols[static_cast<std::size_t>(b)]) continue;
+            const VertexId ga = global[static_cast<std::size_t>(a)], gb = global[static_cast<std::size_t>(b)];
+            if (ga >= 0 && gb >= 0) {
+                const auto& n = adjacency_[static_cast<std::size_t>(ga)];
+                if (e < old_edges || std::find(n.begin(), n.end(), gb) != n.end()) continue;
+            }
+            added.push_back({a, b});
+            classes.push_back(local.edge_highway[e]);
+        }
+        // No new street may cross a street or another new one.
+        for (std::size_t i = 0; i < added.size(); ++i) {
+            const Vec2& a = local.positions[static_cast<std::size_t>(added[i][0])];
+            const Vec2& b = local.positions[static_cast<std::size_t>(added[i][1])];
+            if (crosses(a, b)) {
+                ++report_->rejected_crossing;
+                return false;
+            }
+            for (std::size_t k = 0; k < i; ++k) {
+                if (segments_meet(a, b, local.positions[static_cast<std::size_t>(added[k][0])], local.positions[static_cast<std::size_t>(added[k][1])])) {
+                    ++report_->rejected_crossing;
+                    return false;
+                }
+            }
+        }
+        // Kept: the new vertices and edges join the graph and the frontier.
+        for (std::size_t v : fresh) {
+            global[v] = g_.add_vertex(local.positions[v]);
+            adjacency_.emplace_back();
+            vertices_.insert({point(local.positions[v]), global[v]});
+        }
+        for (std::size_t i = 0; i < added.size(); ++i) {
+            const VertexId a = global[static_cast<std::size_t>(added[i][0])], b = global[static_cast<std::size_t>(added[i][1])];
+            EdgeAttributes attributes;
+            attributes.highway = classes[i];
+            const EdgeId e = g_.add_edge(a, b, attributes);
+            adjacency_[static_cast<std::size_t>(a)].push_back(b);
+            adjacency_[static_cast<std::size_t>(b)].push_back(a);
+            index_edge(e);
+        }
+        for (std::size_t i = 0; i < added.size(); ++i) {
+            frontier_.push_back({global[static_cast<std::size_t>(added[i][0])], global[static_cast<std::size_t>(added[i][1])], 0});
+        }
+        ++report_->placements;
+        if (anchor >= 0 && static_cast<std::size_t>(anchor) < base_vertices_) ++report_->border_connections;
+        return true;
+    }
+
+    bool crosses(const Vec2& a, const Vec2& b) const {
+        Box box(point(a), point(a));
+        bg::expand(box, point(b));
+        for (auto it = segments_.qbegin(bgi::intersects(box)); it != segments_.qend(); ++it) {
+            const EdgeId e = it->second;
+            const Vec2* p = g_.geometry_begin(e);
+            for (std::size_t i = 0; i + 1 < g_.geometry_size(e); ++i) {
+                if (segments_meet(a, b, p[i], p[i + 1])) return true;
+            }
+        }
+        return false;
+    }
+
+    // A new dead end is joined to the vertex ahead of it that is closest, where the joining
+    // street crosses nothing: grown streets meet the ones around instead of stopping short.
+    void close_dead_ends() {
+        std::vector<double> lengths;
+        for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) lengths.push_back(g_.edge_length(static_cast<EdgeId>(e)));
+        if (lengths.empty() || o_.close_dead_ends <= 0) return;
+        std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
+        const double reach = o_.close_dead_ends * lengths[lengths.size() / 2];
+        for (std::size_t v = base_vertices_; v < g_.vertex_count(); ++v) {
+            if (adjacency_[v].size() != 1) continue;
+            const Vec2 p = g_.positions[v];
+            const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
+            VertexId best = -1;
+            double best_d = reach;
+            const Box window(Point(p.x() - reach, p.y() - reach), Point(p.x() + reach, p.y() + reach));
+            for (auto it = vertices_.qbegin(bgi::intersects(window)); it != vertices_.qend(); ++it) {
+                const VertexId w = it->second;
+                if (static_cast<std::size_t>(w) == v || adjacency_[static_cast<std::size_t>(w)].size() >= 4) continue;
+                const Vec2 d = g_.positions[static_cast<std::size_t>(w)] - p;
+                const double length = d.norm();
+                const auto& n = adjacency_[v];
+                if (length >= best_d || d.dot(ahead) < 0.7 * length || std::find(n.begin(), n.end(), w) != n.end()) continue;
+                if (!inside(region_, 0.5 * (p + g_.positions[static_cast<std::size_t>(w)]))) continue; // stays in the region
+                if (crosses(p, g_.positions[static_cast<std::size_t>(w)])) continue;
+                best = w;
+                best_d = length;
+            }
+            if (best < 0) continue;
+            EdgeAttributes attributes;
+            attributes.highway = g_.edge_highway[g_.edge_count() - 1];
+            for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) {
+                if (g_.edges[e][0] == static_cast<VertexId>(v) || g_.edges[e][1] == static_cast<VertexId>(v)) attributes.highway = g_.edge_highway[e];
+            }
+            const EdgeId e = g_.add_edge(static_cast<VertexId>(v), best, attributes);
+            adjacency_[v].push_back(best);
+            adjacency_[static_cast<std::size_t>(best)].push_back(static_cast<VertexId>(v));
+            index_edge(e);
+            ++report_->closing_edges;
+        }
+    }
+
+    GeometricGraph g_;
+    const Grammar& grammar_;
+    const std::vector<Vec2>& region_;
+    const GrowOptions& o_;
+    const ProgressCallback& progress_;
+    std::mt19937_64 rng_;
+    GrowReport* report_ = nullptr;
+    std::vector<Prototype> prototypes_;
+    std::vector<double> weights_;
+    int depth_ = 1;
+    std::size_t base_vertices_ = 0, base_edges_ = 0;
+    std::vector<std::vector<VertexId>> adjacency_;
+    bgi::rtree<PointEntry, bgi::rstar<16>> vertices_;
+    bgi::rtree<SegmentEntry, bgi::rstar<16>> segments_;
+    std::vector<FrontierEdge> frontier_;
+    Vec2 centre_ = Vec2::Zero();
+};
+
+} // namespace
+
+GeometricGraph grow_region(const GeometricGraph& base, const Grammar& grammar, const std::vector<Vec2>& region,
+                           const GrowOptions& options, GrowReport* report, const ProgressCallback& progress) {
+    validate(grammar);
+    if (grammar.rules.empty()) throw UsageError("the grammar has no rules to grow with");
+    if (region.size() < 3) throw UsageError("a region needs at least three corners");
+    double area = 0.0;
+    for (std::size_t i = 0, j = region.size() - 1; i < region.size(); j = i++) {
+        if (!region[i].allFinite()) throw UsageError("the region's corners must be finite numbers");
+        area += cross(region[j], region[i]);
+    }
+    if (!(std::abs(area) > 1e-6)) throw UsageError("the region has no area");
+    if (!(options.snap >= 0) || !(options.spacing >= 0) || !(options.size_jitter >= 0 && options.size_jitter < 1) || !(options.turn_deg >= 0) ||
+        !(options.default_size_m > 0) || !(options.close_dead_ends >= 0)) {
+        throw UsageError("growth options out of range (spacing >= 0, 0 <= size jitter < 1, turn >= 0, default size > 0)");
+    }
+    GrowReport r;
+    GeometricGraph out = Grower(base, grammar, region, options, progress).run(r);
+    if (report) *report = r;
+    return out;
+}
+
+} // namespace ggg

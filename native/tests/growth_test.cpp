@@ -1,0 +1,165 @@
+// Growth into a region: the grown streets stay inside, cross nothing, keep the base as it
+// was, start from the streets at the border, and are the same for the same seed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "analysis_fixtures.hpp"
+#include "fixtures.hpp"
+#include "ggg/encoding/grammar_encoder.hpp"
+#include "ggg/error.hpp"
+#include "ggg/io/grammar_file.hpp"
+#include "ggg/io/read_graph.hpp"
+#include "ggg/synthesis/growth.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace ggg {
+namespace {
+
+using test::GridOptions;
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Proper crossings between straight edges that share no vertex (a brute-force checker).
+std::size_t crossings(const GeometricGraph& g, std::size_t from_edge) {
+    std::size_t n = 0;
+    for (std::size_t e = from_edge; e < g.edge_count(); ++e) {
+        const auto [a, b] = g.edges[e];
+        for (std::size_t f = 0; f < g.edge_count(); ++f) {
+            if (f == e || (f >= from_edge && f < e)) continue;
+            const auto [c, d] = g.edges[f];
+            if (a == c || a == d || b == c || b == d) continue;
+            const Vec2 pa = g.positions[static_cast<std::size_t>(a)], pb = g.positions[static_cast<std::size_t>(b)];
+            const Vec2 pc = g.positions[static_cast<std::size_t>(c)], pd = g.positions[static_cast<std::size_t>(d)];
+            const double d1 = cross2(pb - pa, pc - pa), d2 = cross2(pb - pa, pd - pa);
+            const double d3 = cross2(pd - pc, pa - pc), d4 = cross2(pd - pc, pb - pc);
+            if (d1 * d2 < 0 && d3 * d4 < 0) ++n;
+        }
+    }
+    return n;
+}
+
+bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
+    bool in = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        if ((ring[i].y() > p.y()) != (ring[j].y() > p.y()) &&
+            p.x() < (ring[j].x() - ring[i].x()) * (p.y() - ring[i].y()) / (ring[j].y() - ring[i].y()) + ring[i].x()) {
+            in = !in;
+        }
+    }
+    return in;
+}
+
+struct Town {
+    GeometricGraph graph;
+    Grammar grammar;
+};
+
+const Town& town() {
+    static const Town t = [] {
+        Town town;
+        ImportOptions o;
+        o.highways = HighwayFilter::all();
+        town.graph = read_graph(std::string(GGG_SAMPLES_DIR) + "/sample_city.osm", o);
+        town.grammar = learn_grammar(town.graph).grammar;
+        return town;
+    }();
+    return t;
+}
+
+// East of the town, touching the streets that end at its east edge.
+std::vector<Vec2> east_of_town() { return {{700, -600}, {1500, -600}, {1500, 600}, {700, 600}}; }
+
+} // namespace
+
+TEST(Growth, StaysInsideCrossesNothingAndKeepsTheBase) {
+    const Town& t = town();
+    const std::vector<Vec2> region = east_of_town();
+    GrowReport report;
+    const GeometricGraph grown = grow_region(t.graph, t.grammar, region, {}, &report);
+    ASSERT_GT(report.placements, 10u);
+    EXPECT_EQ(grown.vertex_count(), t.graph.vertex_count() + report.added_vertices);
+    EXPECT_EQ(grown.edge_count(), t.graph.edge_count() + report.added_edges);
+    for (std::size_t v = 0; v < t.graph.vertex_count(); ++v) ASSERT_EQ(grown.positions[v], t.graph.positions[v]);
+    for (std::size_t e = 0; e < t.graph.edge_count(); ++e) ASSERT_EQ(grown.edges[e], t.graph.edges[e]);
+    for (std::size_t v = t.graph.vertex_count(); v < grown.vertex_count(); ++v) EXPECT_TRUE(inside(region, grown.positions[v])) << v;
+    // The town's own bridge over the motorway is the one crossing it already has.
+    EXPECT_EQ(crossings(grown, t.graph.edge_count()), 0u);
+    EXPECT_TRUE(check_simple(grown).empty()) << check_simple(grown);
+    // It starts from the town's streets at the border: some grown streets end on them.
+    EXPECT_GT(report.border_connections, 0u);
+    std::size_t joined = 0;
+    for (std::size_t e = t.graph.edge_count(); e < grown.edge_count(); ++e) {
+        joined += static_cast<std::size_t>(grown.edges[e][0]) < t.graph.vertex_count() || static_cast<std::size_t>(grown.edges[e][1]) < t.graph.vertex_count();
+    }
+    EXPECT_GT(joined, 0u);
+}
+
+TEST(Growth, TheSameSeedGivesTheSameStreets) {
+    const Town& t = town();
+    GrowOptions o;
+    o.seed = 7;
+    const GeometricGraph a = grow_region(t.graph, t.grammar, east_of_town(), o);
+    const GeometricGraph b = grow_region(t.graph, t.grammar, east_of_town(), o);
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_EQ(a.edges, b.edges);
+    o.seed = 8;
+    const GeometricGraph c = grow_region(t.graph, t.grammar, east_of_town(), o);
+    EXPECT_NE(a.positions, c.positions);
+}
+
+TEST(Growth, FromNothingAndFromAPlacedRuleWithinBudgets) {
+    const Town& t = town();
+    const std::vector<Vec2> square{{0, 0}, {800, 0}, {800, 800}, {0, 800}};
+    GeometricGraph empty;
+    GrowReport report;
+    GrowOptions o;
+    o.max_placements = 12;
+    const GeometricGraph grown = grow_region(empty, t.grammar, square, o, &report);
+    EXPECT_EQ(report.placements, 12u);
+    EXPECT_TRUE(report.stopped_by_budget);
+    EXPECT_GT(grown.edge_count(), 12u);
+    o = {};
+    o.placements.push_back({t.grammar.rules.front().symbol, {400, 400}, Frame{0.0, 30.0}});
+    o.max_vertices = 60;
+    const GeometricGraph placed = grow_region(empty, t.grammar, square, o, &report);
+    EXPECT_LE(placed.vertex_count(), 60u + 40u); // the last placement may pass the budget by one rule
+    EXPECT_TRUE(report.stopped_by_budget);
+}
+
+TEST(Growth, BadInputIsAClearError) {
+    const Town& t = town();
+    EXPECT_THROW(grow_region(t.graph, t.grammar, {{0, 0}, {1, 1}}), UsageError);
+    EXPECT_THROW(grow_region(t.graph, t.grammar, {{0, 0}, {1, 1}, {2, 2}}), UsageError); // no area
+    Grammar none = t.grammar;
+    none.rules.clear();
+    none.encoding = {};
+    none.axiom_vertices = {AxiomVertex{}};
+    none.axiom_edges.clear();
+    none.symbol_names.clear();
+    EXPECT_THROW(grow_region(t.graph, none, east_of_town()), UsageError);
+    GrowOptions o;
+    o.placements.push_back({999, {0, 0}, Frame{}});
+    EXPECT_THROW(grow_region(t.graph, t.grammar, east_of_town(), o), Error);
+}
+
+TEST(Growth, CommandLine) {
+    const std::string sample = std::string(GGG_SAMPLES_DIR) + "/sample_city.osm";
+    const std::string grammar = test::temp_path(".json");
+    ASSERT_EQ(test::run_cli("learn " + sample + " --highways all -o " + grammar).code, 0);
+    // East of the town, in longitude and latitude (the town sits at about 46.0 N, 8.95 E).
+    const std::string region = test::temp_file(R"({"type": "Feature", "geometry": {"type": "Polygon", "coordinates":
+        [[[8.959, 45.995], [8.97, 45.995], [8.97, 46.005], [8.959, 46.005], [8.959, 45.995]]]}})", ".geojson");
+    const std::string out = test::temp_path(".geojson");
+    const test::CliResult r = test::run_cli("grow " + grammar + " --region " + region + " --base " + sample + " --highways all -o " + out + " --seed 3");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_GT(j["placements"].get<int>(), 0);
+    EXPECT_EQ(read_graph(out).edge_count(), j["edges"].get<std::size_t>());
+    EXPECT_EQ(test::run_cli("grow " + grammar + " --region " + sample + " -o " + out).code, 1); // no polygon there
+    EXPECT_EQ(test::run_cli("grow " + grammar + " -o " + out).code, 2);
+}
+
+} // namespace ggg
