@@ -242,7 +242,7 @@ private:
         for (std::size_t e = 0; e < p.edges.size(); ++e) {
             const double l = (p.positions[static_cast<std::size_t>(p.edges[e][1])] - p.positions[static_cast<std::size_t>(p.edges[e][0])]).norm();
             const double size = length / l;
-            if (l > 0 && size >= (1.0 - 2.0 * o_.size_jitter) * p.size_m / 1.5 && size <= 1.5 * p.size_m / (1.0 - 2.0 * o_.size_jitter)) {
+            if (l > 0 && size >= p.size_m / (1.0 + 2.0 * o_.size_jitter) && size <= p.size_m * (1.0 + 2.0 * o_.size_jitter)) {
                 fitting.push_back(e);
             }
         }
