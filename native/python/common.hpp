@@ -96,7 +96,8 @@ py::object to_python(const nlohmann::json& j);
 void bind_analysis(py::module_& m);
 // Binds grammar learning and decoding (learning_bindings.cpp).
 void bind_learning(py::module_& m);
-// Binds the comparison of street networks (measures_bindings.cpp).
-void bind_measures(py::module_& m);
+// Binds growth, terminal replacement and the comparison of street networks
+// (synthesis_bindings.cpp).
+void bind_synthesis(py::module_& m);
 
 } // namespace ggg::python

@@ -378,7 +378,7 @@ PYBIND11_MODULE(ggg, m) {
 
     ggg::python::bind_analysis(m);
     ggg::python::bind_learning(m);
-    ggg::python::bind_measures(m);
+    ggg::python::bind_synthesis(m);
 
     m.def("read_graph", &read_graph, py::arg("path"), py::arg("highways") = "drivable", py::arg("keep_shape_nodes") = false,
           py::arg("consolidate_m") = 0.0, py::arg("origin_latlon") = py::none(), py::arg("progress") = py::none(),

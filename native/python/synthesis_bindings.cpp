@@ -1,13 +1,15 @@
-// ggg.compare (how alike two street networks are) and ggg.grow_region (streets grown into a
-// region with a grammar); and the JSON-to-Python conversion the bindings that return
-// reports share.
+// ggg.grow_region (streets grown into a region with a grammar), ggg.replace_isogroup
+// (terminal replacement) and ggg.compare (how alike two street networks are); and the
+// JSON-to-Python conversion the bindings that return reports share.
 #include <pybind11/stl.h>
 
 #include "common.hpp"
 #include "ggg/error.hpp"
 #include "ggg/grammar.hpp"
 #include "ggg/measures/network_comparison.hpp"
+#include "ggg/analyzer.hpp"
 #include "ggg/synthesis/growth.hpp"
+#include "ggg/synthesis/replacement.hpp"
 
 namespace ggg::python {
 
@@ -34,7 +36,7 @@ py::object to_python(const nlohmann::json& j) {
 }
 
 
-void bind_measures(py::module_& m) {
+void bind_synthesis(py::module_& m) {
     using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
     m.def(
         "grow_region",
@@ -78,6 +80,55 @@ void bind_measures(py::module_& m) {
         "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. Returns (Graph, report dict): the base\n"
         "with the grown streets after its own vertices and edges. Deterministic for a seed.");
 
+    using IndexArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+    m.def(
+        "replace_isogroup",
+        [](const GeometricGraph& g, const AnalyzedIsogroup& isogroup, DoubleArray positions, IndexArray edges,
+           std::optional<IndexArray> edge_highway, std::optional<IndexArray> occurrences, bool fit) {
+            if (positions.ndim() != 2 || positions.shape(1) != 2) throw UsageError("replacement positions must have shape (N, 2)");
+            if (edges.ndim() != 2 || edges.shape(1) != 2) throw UsageError("replacement edges must have shape (M, 2)");
+            ReplacementGraph r;
+            const auto p = positions.unchecked<2>();
+            for (py::ssize_t i = 0; i < p.shape(0); ++i) r.positions.emplace_back(p(i, 0), p(i, 1));
+            const auto e = edges.unchecked<2>();
+            for (py::ssize_t i = 0; i < e.shape(0); ++i) r.edges.push_back({static_cast<int>(e(i, 0)), static_cast<int>(e(i, 1))});
+            if (edge_highway) {
+                const auto h = edge_highway->unchecked<1>();
+                for (py::ssize_t i = 0; i < h.shape(0); ++i) {
+                    if (h(i) < 0 || h(i) >= highway_class_count) throw UsageError("a replacement edge's road class is out of range");
+                    r.edge_highway.push_back(static_cast<HighwayClass>(h(i)));
+                }
+            }
+            std::vector<std::uint32_t> chosen = isogroup.selection.non_overlapping;
+            if (occurrences) {
+                chosen.clear();
+                const auto o = occurrences->unchecked<1>();
+                for (py::ssize_t i = 0; i < o.shape(0); ++i) {
+                    if (o(i) < 0) throw UsageError("occurrence indices must be >= 0");
+                    chosen.push_back(static_cast<std::uint32_t>(o(i)));
+                }
+            }
+            if (fit) r = fit_replacement(r, isogroup.group.pattern);
+            ReplaceReport report;
+            GeometricGraph out;
+            {
+                py::gil_scoped_release release;
+                out = replace_occurrences(g, isogroup.group, chosen, r, &report);
+            }
+            py::dict d;
+            d["replaced"] = report.replaced;
+            d["removed_vertices"] = report.removed_vertices;
+            d["added_vertices"] = report.added_vertices;
+            d["reconnected_streets"] = report.reconnected_streets;
+            return py::make_tuple(std::move(out), d);
+        },
+        py::arg("graph"), py::arg("isogroup"), py::arg("positions"), py::arg("edges"), py::arg("edge_highway") = py::none(),
+        py::arg("occurrences") = py::none(), py::arg("fit") = true,
+        "Terminal replacement (paper Fig. 1): the isogroup's occurrences (default: its non-overlapping ones) replaced by the\n"
+        "piece of network (positions (N,2), edges (M,2), optional road classes (M,)), scaled and turned by each occurrence's\n"
+        "transform and joined to the streets around by the relaxed embedding. fit=True centres and scales the piece to the\n"
+        "pattern (draw it anywhere, at any size); fit=False takes it in the pattern's canonical coordinates.\n"
+        "Returns (Graph, report dict).");
     m.def(
         "compare",
         [](const GeometricGraph& a, const GeometricGraph& b) {

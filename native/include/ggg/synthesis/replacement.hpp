@@ -1,0 +1,48 @@
+#pragma once
+// Terminal replacement (paper Fig. 1): every chosen occurrence of an isogroup is replaced by
+// another piece of street network (a round plaza for the blocks of Barcelona), scaled and
+// turned by the occurrence's own transform, and joined to the streets around it.
+//
+// It is a grammar rewriting, not a second mechanism: each occurrence becomes a nonterminal
+// whose rule is the replacement, with an embedding point for every street that left the
+// occurrence, aimed at the replacement vertex nearest to where that street's end was
+// (relaxed embedding, paper 3.3); one derivation step (rewriting.hpp) then places them all.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "ggg/analysis/pattern.hpp"
+#include "ggg/geometric_graph.hpp"
+#include "ggg/highway.hpp"
+
+namespace ggg {
+
+// A piece of street network to put in place of a pattern's occurrences.
+struct ReplacementGraph {
+    std::vector<Vec2> positions;
+    std::vector<std::array<int, 2>> edges;
+    std::vector<HighwayClass> edge_highway; // one per edge; empty = residential
+};
+
+// The replacement as a user drew it (in metres anywhere), fitted to a pattern: centred on the
+// pattern's centre and scaled to its size, in the pattern's canonical coordinates, keeping its
+// orientation on the map relative to the pattern's.
+ReplacementGraph fit_replacement(const ReplacementGraph& drawn, const Pattern& pattern);
+
+struct ReplaceReport {
+    std::size_t replaced = 0;          // occurrences replaced
+    std::size_t removed_vertices = 0;
+    std::size_t added_vertices = 0;
+    std::size_t reconnected_streets = 0; // streets of the surroundings joined to a replacement
+};
+
+// `graph` with the occurrences `chosen` of `group` (indices, pairwise without shared vertices)
+// replaced by `replacement` (in the pattern's canonical coordinates, e.g. from
+// fit_replacement). Vertices and edges the replacement does not touch keep their order.
+// Throws UsageError for an empty replacement, an edge or index out of range, or occurrences
+// that share a vertex.
+GeometricGraph replace_occurrences(const GeometricGraph& graph, const Isogroup& group, std::span<const std::uint32_t> chosen,
+                                   const ReplacementGraph& replacement, ReplaceReport* report = nullptr);
+
+} // namespace ggg
