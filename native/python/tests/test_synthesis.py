@@ -1,0 +1,54 @@
+"""ggg.grow_region and ggg.replace_isogroup on a street grid: arrays in and out, budgets, errors."""
+import numpy as np
+import pytest
+
+import ggg
+from test_learning import grid
+
+
+def inside(ring, p):
+    x, y = p
+    hit = False
+    for (x1, y1), (x2, y2) in zip(ring, np.roll(ring, 1, axis=0)):
+        if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
+            hit = not hit
+    return hit
+
+
+def test_grow_east_of_a_grid():
+    g = grid(8)  # 0 .. 700 m
+    grammar, _ = ggg.learn(g)
+    region = np.array([[720.0, -50.0], [1500.0, -50.0], [1500.0, 750.0], [720.0, 750.0]])
+    grown, report = ggg.grow_region(g, grammar, region, seed=4)
+    assert report["placements"] > 0 and report["border_connections"] > 0
+    assert grown.vertex_count == g.vertex_count + report["added_vertices"]
+    assert np.array_equal(grown.positions[:g.vertex_count], g.positions)
+    assert np.array_equal(grown.edges[:g.edge_count], g.edges)
+    assert all(inside(region, p) for p in grown.positions[g.vertex_count:])
+    again, _ = ggg.grow_region(g, grammar, region, seed=4)
+    assert np.array_equal(again.positions, grown.positions)
+    small, report = ggg.grow_region(g, grammar, region, seed=4, max_placements=3)
+    assert report["placements"] == 3 and report["stopped_by_budget"]
+    with pytest.raises(ggg.UsageError):
+        ggg.grow_region(g, grammar, np.zeros((2, 2)))
+    with pytest.raises(ggg.Cancelled):
+        ggg.grow_region(g, grammar, region, progress=lambda f, m: False)
+
+
+def test_replace_squares_by_plazas():
+    g = grid(9, jitter=0.0)
+    best = [iso for iso in ggg.analyze(g, max_order=4).isogroups if iso.order == 4 and iso.edge_count == 4][0]
+    angles = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    ring = np.c_[np.cos(angles), np.sin(angles)] * 3.0  # any size: fitted to the square
+    edges = np.array([(i, (i + 1) % 8) for i in range(8)])
+    out, report = ggg.replace_isogroup(g, best, ring, edges)
+    m = len(best.non_overlapping)
+    assert report["replaced"] == m == 16
+    assert out.vertex_count == g.vertex_count - 4 * m + 8 * m
+    assert out.edge_count == g.edge_count - 4 * m + 8 * m
+    one, report = ggg.replace_isogroup(g, best, ring, edges, occurrences=np.array([best.non_overlapping[0]]))
+    assert report["replaced"] == 1 and one.vertex_count == g.vertex_count + 4
+    with pytest.raises(ggg.UsageError):
+        ggg.replace_isogroup(g, best, ring, np.array([[0, 99]]))
+    with pytest.raises(ggg.UsageError):
+        ggg.replace_isogroup(g, best, ring, edges, occurrences=np.array([0, 0]))
