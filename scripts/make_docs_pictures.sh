@@ -22,6 +22,12 @@ fi
 learn_osm=()
 [ -f "$root/../shared/osm/paris_marais.osm.pbf" ] && learn_osm=(--osm "$root/../shared/osm/paris_marais.osm.pbf")
 GGG_MODULE_DIR="$build/python" /usr/bin/python3 "$root/scripts/make_learning_figures.py" --out-dir "$out" "${learn_osm[@]}"
+# Synthesis (docs/synthesis.md): terminal replacement and two cities stitched by growth.
+if [ -d "$root/../shared/osm" ]; then
+  GGG_MODULE_DIR="$build/python" /usr/bin/python3 "$root/scripts/make_synthesis_figures.py" --out-dir "$out"
+else
+  echo "note: ../shared/osm is absent: the synthesis pictures are not remade" >&2
+fi
 if [ -f "$root/scripts/render_grammar_demo.py" ]; then
   GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
     --python "$root/scripts/render_grammar_demo.py" -- "$out/sierpinski_blender.png" >/dev/null

@@ -105,6 +105,8 @@ int main(int argc, char** argv) {
     grow->add_option("--seed", grow_options.seed, "Seed of the random choices: the same seed gives the same streets")->capture_default_str();
     grow->add_option("--max-placements", grow_options.max_placements, "Most rules placed")->check(CLI::PositiveNumber)->capture_default_str();
     grow->add_option("--max-vertices", grow_options.max_vertices, "Most vertices in the result")->check(CLI::PositiveNumber)->capture_default_str();
+    grow->add_option("--border", grow_options.border_m, "How near the region (metres) a base street must end to be grown from; < 0: 5 % of its size")
+        ->capture_default_str();
     grow->add_option("--patience", grow_options.patience, "Failed placements in a row after which the region counts as full")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();

@@ -42,7 +42,7 @@ void bind_synthesis(py::module_& m) {
         "grow_region",
         [](const GeometricGraph& base, const Grammar& grammar, DoubleArray region, std::uint64_t seed, std::size_t max_placements,
            std::size_t max_vertices, std::size_t patience, std::optional<std::vector<std::tuple<Symbol, double, double, double, double>>> placements,
-           std::optional<py::function> progress) {
+           double border_m, std::optional<py::function> progress) {
             if (region.ndim() != 2 || region.shape(1) != 2) throw UsageError("region must have shape (N, 2): the polygon's corners in metres");
             std::vector<Vec2> ring;
             const auto r = region.unchecked<2>();
@@ -52,6 +52,7 @@ void bind_synthesis(py::module_& m) {
             o.max_placements = max_placements;
             o.max_vertices = max_vertices;
             o.patience = patience;
+            o.border_m = border_m;
             if (placements) {
                 for (const auto& [symbol, x, y, scale, rotation] : *placements) o.placements.push_back({symbol, Vec2(x, y), Frame{scale, rotation}});
             }
@@ -74,10 +75,11 @@ void bind_synthesis(py::module_& m) {
         },
         py::arg("base"), py::arg("grammar"), py::arg("region"), py::arg("seed") = 1, py::arg("max_placements") = GrowOptions{}.max_placements,
         py::arg("max_vertices") = GrowOptions{}.max_vertices, py::arg("patience") = GrowOptions{}.patience,
-        py::arg("placements") = py::none(), py::arg("progress") = py::none(),
+        py::arg("placements") = py::none(), py::arg("border_m") = GrowOptions{}.border_m, py::arg("progress") = py::none(),
         "Grow streets into `region` ((N,2) polygon corners in the base graph's metres) with the grammar's rules, from the\n"
         "streets of `base` that reach it (or the region's middle). placements: rules placed by hand, (symbol, x, y, scale,\n"
-        "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. Returns (Graph, report dict): the base\n"
+        "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. border_m: how near the region a base\n"
+        "street must end to be grown from (< 0: 5 % of the region's size). Returns (Graph, report dict): the base\n"
         "with the grown streets after its own vertices and edges. Deterministic for a seed.");
 
     using IndexArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;

@@ -1,0 +1,140 @@
+#!/usr/bin/env python3
+"""Draws the synthesis figures of docs/synthesis.md with the ggg module.
+
+    /usr/bin/python3 scripts/make_synthesis_figures.py [--out-dir docs/figures]
+
+Needs numpy and matplotlib (Debian: python3-numpy, python3-matplotlib), the built module `ggg`
+($GGG_MODULE_DIR, else build/python) and ../shared/osm beside the project (the extracts are
+(c) OpenStreetMap contributors, ODbL).
+
+Writes
+  synthesis_replacement.png  the most frequent blocks of Barcelona's Eixample replaced by a round
+                             plaza (the paper's Figure 1)
+  synthesis_stitch.png       Barcelona's Eixample and the Marais in Paris side by side, and the gap
+                             between them grown with the grammar of each (the paper's Figure 18)
+"""
+import argparse
+import os
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, os.environ.get("GGG_MODULE_DIR") or str(REPO / "build" / "python"))
+OSM = REPO.parent / "shared" / "osm"
+CREDIT = "Map data (c) OpenStreetMap contributors, ODbL"
+PNG_METADATA = {"Software": None}
+
+try:
+    import ggg
+    import numpy as np
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+except ImportError as e:
+    sys.exit(f"error: {e}; build the ggg module and install python3-numpy and python3-matplotlib")
+
+
+def crop(graph, lo, hi, shift=(0.0, 0.0)):
+    """The part of `graph` with both ends of each edge inside the box lo..hi, moved by `shift`."""
+    p = graph.positions
+    keep = np.all((p >= lo) & (p <= hi), axis=1)
+    index = -np.ones(len(p), dtype=np.int64)
+    index[keep] = np.arange(keep.sum())
+    e = graph.edges
+    ok = keep[e[:, 0]] & keep[e[:, 1]]
+    return ggg.Graph.from_arrays(p[keep] + np.asarray(shift), index[e[ok]], graph.origin_latlon if hasattr(graph, "origin_latlon") else (0.0, 0.0),
+                                 edge_highway=graph.edge_highway[ok])
+
+
+def draw(ax, graph, first_edge=0, last_edge=None, colour="#222222", lw=0.8):
+    edges = graph.edges[first_edge:last_edge]
+    ax.add_collection(LineCollection(graph.positions[edges], colors=colour, linewidths=lw))
+
+
+def frame(ax, lo, hi, title):
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    ax.set_title(title, fontsize=10)
+
+
+def replacement_figure(out):
+    city = ggg.read_graph(str(OSM / "barcelona_eixample.osm"), highways="all")
+    analysis = ggg.analyze(city, max_order=8)
+    blocks = [iso for iso in analysis.isogroups if iso.edge_count == iso.order >= 4]
+    block = max(blocks, key=lambda iso: len(iso.non_overlapping))
+    n = 16
+    angles = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ring = np.c_[np.cos(angles), np.sin(angles)]
+    plaza = np.vstack([ring, 0.45 * ring[::4]])
+    edges = [(i, (i + 1) % n) for i in range(n)] + [(n + j, (n + j + 1) % 4 + n) for j in range(4)] + \
+            [(4 * j, n + j) for j in range(4)]
+    replaced, report = ggg.replace_isogroup(city, block, plaza, np.array(edges))
+    centre = np.median(city.positions, axis=0)
+    lo, hi = centre - 700, centre + 700
+    fig, axes = plt.subplots(1, 2, figsize=(12, 6.4))
+    draw(axes[0], city)
+    occ = block.occurrences[block.non_overlapping]
+    for o in occ:
+        ring_xy = city.positions[o]
+        axes[0].fill(*ring_xy[np.argsort(np.arctan2(*(ring_xy - ring_xy.mean(0)).T[::-1]))].T, color="#f4a261", alpha=0.6, lw=0)
+    frame(axes[0], lo, hi, "the most frequent block ({} of {} copies chosen)".format(len(occ), block.frequency))
+    kept = replaced.edge_count - 0
+    draw(axes[1], replaced)
+    frame(axes[1], lo, hi, "each replaced by a plaza, joined to its streets ({} streets)".format(report["reconnected_streets"]))
+    fig.text(0.99, 0.01, CREDIT, ha="right", fontsize=7, color="#666666")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110, metadata=PNG_METADATA)
+    plt.close(fig)
+
+
+def stitch_figure(out):
+    barcelona = ggg.read_graph(str(OSM / "barcelona_eixample.osm"))
+    paris = ggg.read_graph(str(OSM / "paris_marais.osm.pbf"))
+    grid_rules, _ = ggg.learn(barcelona)
+    old_rules, _ = ggg.learn(paris)
+    c_b, c_p = np.median(barcelona.positions, 0), np.median(paris.positions, 0)
+    half = np.array([600.0, 600.0])
+    west = crop(barcelona, c_b - half, c_b + half, -c_b)            # centred on (0, 0)
+    east = crop(paris, c_p - half, c_p + half, -c_p + [2000.0, 0.0])  # 2 km east of it
+    both = ggg.Graph.from_arrays(np.vstack([west.positions, east.positions]),
+                                 np.vstack([west.edges, east.edges + west.vertex_count]),
+                                 edge_highway=np.concatenate([west.edge_highway, east.edge_highway]))
+    gap_west = np.array([[600.0, -600.0], [1000.0, -600.0], [1000.0, 600.0], [600.0, 600.0]])
+    gap_east = gap_west + [400.0, 0.0]
+    step1, r1 = ggg.grow_region(both, grid_rules, gap_west, seed=1, border_m=150.0)
+    step2, r2 = ggg.grow_region(step1, old_rules, gap_east, seed=1, border_m=150.0)
+    fig, ax = plt.subplots(figsize=(13, 5.6))
+    draw(ax, step2, 0, west.edge_count, "#c0392b")
+    draw(ax, step2, west.edge_count, both.edge_count, "#2471a3")
+    draw(ax, step2, both.edge_count, step1.edge_count, "#e59866", lw=1.4)
+    draw(ax, step2, step1.edge_count, None, "#7fb3d5", lw=1.4)
+    for gap in (gap_west, gap_east):
+        ax.plot(*np.vstack([gap, gap[:1]]).T, color="#999999", ls="--", lw=0.8)
+    frame(ax, (-650, -650), (2650, 650), "Barcelona (red) and Paris (blue), the gap grown with the rules of each "
+          "({} and {} rules placed)".format(r1["placements"], r2["placements"]))
+    fig.text(0.99, 0.01, CREDIT, ha="right", fontsize=7, color="#666666")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110, metadata=PNG_METADATA)
+    plt.close(fig)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--out-dir", default=str(REPO / "docs" / "figures"))
+    args = parser.parse_args()
+    if not OSM.is_dir():
+        sys.exit("error: {} is absent: the synthesis figures need the real extracts".format(OSM))
+    out = Path(args.out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    replacement_figure(out / "synthesis_replacement.png")
+    stitch_figure(out / "synthesis_stitch.png")
+    print("wrote", out / "synthesis_replacement.png", "and", out / "synthesis_stitch.png")
+
+
+if __name__ == "__main__":
+    main()
