@@ -155,7 +155,9 @@ int main(int argc, char** argv) {
                                         {"closing_edges", report.closing_edges},
                                         {"rejected", {{"outside", report.rejected_outside},
                                                       {"crossing", report.rejected_crossing},
-                                                      {"crowded", report.rejected_crowded}}},
+                                                      {"crowded", report.rejected_crowded},
+                                                      {"off_grid", report.rejected_off_grid}}},
+                                        {"grid", report.grid},
                                         {"filled", report.filled},
                                         {"stopped_by_budget", report.stopped_by_budget},
                                         {"seconds", seconds.count()}}

@@ -69,6 +69,8 @@ void bind_synthesis(py::module_& m) {
             d["rejected_outside"] = report.rejected_outside;
             d["rejected_crossing"] = report.rejected_crossing;
             d["rejected_crowded"] = report.rejected_crowded;
+            d["rejected_off_grid"] = report.rejected_off_grid;
+            d["grid"] = report.grid;
             d["filled"] = report.filled;
             d["stopped_by_budget"] = report.stopped_by_budget;
             return py::make_tuple(std::move(grown), d);

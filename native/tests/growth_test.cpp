@@ -11,6 +11,7 @@
 #include "ggg/error.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
+#include "ggg/measures/network_comparison.hpp"
 #include "ggg/synthesis/growth.hpp"
 
 #include <nlohmann/json.hpp>
@@ -160,6 +161,40 @@ TEST(Growth, CommandLine) {
     EXPECT_EQ(read_graph(out).edge_count(), j["edges"].get<std::size_t>());
     EXPECT_EQ(test::run_cli("grow " + grammar + " --region " + sample + " -o " + out).code, 1); // no polygon there
     EXPECT_EQ(test::run_cli("grow " + grammar + " -o " + out).code, 2);
+}
+
+} // namespace ggg
+
+namespace ggg {
+
+// The style of a grid city and of an irregular one carries over to what their grammars grow:
+// street orientations of a region grown from Columbus' grammar are closer to Columbus' than to
+// the Marais', and those grown from the Marais' closer to the Marais' than to Columbus'.
+TEST(Growth, AGrownRegionHasTheStyleOfItsCity) {
+    GGG_REQUIRE_CORPUS();
+    const std::string dir = test::shared_osm_dir();
+    const GeometricGraph columbus = read_graph(dir + "/columbus_oh.osm.pbf");
+    const GeometricGraph paris = read_graph(dir + "/paris_marais.osm.pbf");
+    const StreetStatistics sc = street_statistics(columbus), sp = street_statistics(paris);
+    const std::vector<Vec2> region{{0, 0}, {900, 0}, {900, 900}, {0, 900}};
+    const GeometricGraph empty;
+    const Grammar grid_rules = learn_grammar(columbus).grammar;
+    const Grammar old_rules = learn_grammar(paris).grammar;
+    for (std::uint64_t seed : {1u, 2u}) {
+        GrowOptions o;
+        o.seed = seed;
+        GrowReport report;
+        const StreetStatistics from_columbus = street_statistics(grow_region(empty, grid_rules, region, o, &report));
+        EXPECT_TRUE(report.grid);
+        EXPECT_GT(report.placements, 20u);
+        const StreetStatistics from_paris = street_statistics(grow_region(empty, old_rules, region, o, &report));
+        EXPECT_FALSE(report.grid);
+        EXPECT_GT(report.placements, 20u);
+        EXPECT_LT(network_distances(from_columbus, sc).orientation, network_distances(from_columbus, sp).orientation) << "seed " << seed;
+        EXPECT_LT(network_distances(from_paris, sp).orientation, network_distances(from_paris, sc).orientation) << "seed " << seed;
+        EXPECT_LT(network_distances(from_paris, sp).mean(), network_distances(from_paris, sc).mean()) << "seed " << seed;
+        EXPECT_GT(from_columbus.orientation_order, from_paris.orientation_order) << "seed " << seed;
+    }
 }
 
 } // namespace ggg

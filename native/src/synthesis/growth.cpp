@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <random>
+#include <optional>
+#include <tuple>
 #include <string>
 #include <unordered_map>
 
@@ -74,7 +77,30 @@ struct Prototype {
     Vec2 centroid = Vec2::Zero();
     double radius = 0.0;    // farthest vertex from the centroid
     double edge_length = 0.0; // median
+    // Its streets' directions modulo 90 degrees (length-weighted four-fold mean): how square
+    // the rule is (1: every street along one of two perpendicular directions), and which way.
+    double squareness = 0.0;
+    double square_angle = 0.0; // radians, in [-pi/4, pi/4)
 };
+
+// Length-weighted four-fold mean of segment directions: (squareness, angle modulo 90 degrees).
+std::pair<double, double> four_fold(const std::vector<std::pair<Vec2, Vec2>>& segments) {
+    std::complex<double> z = 0.0;
+    double total = 0.0;
+    for (const auto& [a, b] : segments) {
+        const Vec2 d = b - a;
+        const double l = d.norm();
+        if (l <= 0) continue;
+        z += l * std::polar(1.0, 4.0 * std::atan2(d.y(), d.x()));
+        total += l;
+    }
+    if (total <= 0) return {0.0, 0.0};
+    return {std::abs(z) / total, std::arg(z) / 4.0};
+}
+
+double wrap_quarter(double a) { // into [-pi/4, pi/4)
+    return a - M_PI / 2 * std::floor((a + M_PI / 4) / (M_PI / 2));
+}
 
 Prototype prototype_of(const Grammar& grammar, const Rule& rule, int depth, const GrowOptions& o) {
     Prototype p;
@@ -109,9 +135,16 @@ Prototype prototype_of(const Grammar& grammar, const Rule& rule, int depth, cons
     for (const Vec2& v : p.positions) p.radius = std::max(p.radius, (v - p.centroid).norm());
     std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
     p.edge_length = lengths[lengths.size() / 2];
+    std::vector<std::pair<Vec2, Vec2>> segments;
+    for (const auto& [a, b] : p.edges) segments.emplace_back(p.positions[static_cast<std::size_t>(a)], p.positions[static_cast<std::size_t>(b)]);
+    std::tie(p.squareness, p.square_angle) = four_fold(segments);
     // A rule is chosen as often as its streets occur in the city it was learned from: a
     // block of eight streets used 10 times weighs as much as a street used 80 times.
     p.weight *= static_cast<double>(p.edges.size());
+    // Blocks make a street network; a rule with c independent cycles (E - V + 1, for a
+    // connected rule) counts 1 + c times, so that tree-shaped pieces do not crowd blocks out.
+    const double cycles = std::max(0.0, static_cast<double>(p.edges.size()) - static_cast<double>(p.positions.size()) + 1.0);
+    p.weight *= 1.0 + o.block_preference * cycles;
     for (std::size_t v = 0; v < p.positions.size(); ++v) {
         if (degree[v] < 3) p.attach.push_back(static_cast<int>(v));
     }
@@ -146,6 +179,19 @@ public:
             prototypes_.push_back(std::move(p));
         }
         if (prototypes_.empty()) throw UsageError("the grammar has no rule that derives to streets: nothing to grow with");
+        // Whether the grammar's city is a grid: then square rules keep to a grid as they grow
+        // (a learned grammar decodes to its city; a hand-written one is judged by its rules).
+        std::vector<std::pair<Vec2, Vec2>> streets;
+        if (!grammar_.encoding.empty()) {
+            const GeometricGraph city = decode_grammar(grammar_);
+            for (const auto& [a, b] : city.edges) streets.emplace_back(city.positions[static_cast<std::size_t>(a)], city.positions[static_cast<std::size_t>(b)]);
+        } else {
+            for (const Prototype& p : prototypes_) {
+                for (const auto& [a, b] : p.edges) streets.emplace_back(p.positions[static_cast<std::size_t>(a)], p.positions[static_cast<std::size_t>(b)]);
+            }
+        }
+        grid_city_ = four_fold(streets).first >= 0.5;
+        report.grid = grid_city_;
         depth_ = depth;
         index_graph();
         for (const Vec2& p : region_) centre_ += p;
@@ -160,6 +206,12 @@ public:
             if (near_region(g_.positions[static_cast<std::size_t>(u)], border) || near_region(g_.positions[static_cast<std::size_t>(v)], border)) {
                 frontier_.push_back({u, v, 0});
             }
+        }
+        {
+            std::vector<std::pair<Vec2, Vec2>> near;
+            for (const FrontierEdge& f : frontier_) near.emplace_back(g_.positions[static_cast<std::size_t>(f.a)], g_.positions[static_cast<std::size_t>(f.b)]);
+            const auto [squareness, angle] = four_fold(near);
+            if (squareness >= 0.7) grid_angle_ = angle; // the streets around run on a grid: keep it
         }
         if (frontier_.empty()) seed_at_centre();
 
@@ -246,7 +298,7 @@ private:
                 fitting.push_back(e);
             }
         }
-        if (fitting.empty()) return false;
+        if (fitting.empty()) return attach(p, at);
         std::uniform_int_distribution<std::size_t> pick(0, fitting.size() - 1);
         auto [u, v] = p.edges[fitting[pick(rng_)]];
         if (std::bernoulli_distribution(0.5)(rng_)) std::swap(u, v); // the other side of the street
@@ -255,7 +307,39 @@ private:
         const double size = length / d.norm();
         const double angle = std::atan2((b - a).y(), (b - a).x()) - std::atan2(d.y(), d.x());
         const Vec2 origin = a - Similarity2::from(size, angle, Vec2::Zero()).apply_linear(pu);
-        return place(p, Frame{size, angle * 180.0 / M_PI}, origin, at.a);
+        // A square rule stays on the grid of the streets around (or of the first square rule
+        // placed): its streets must run along the grid's.
+        const double tolerance = o_.grid_tolerance_deg * M_PI / 180.0;
+        if (grid_city_ && o_.grid_tolerance_deg > 0 && p.squareness >= 0.6 && grid_angle_) {
+            if (std::abs(wrap_quarter(p.square_angle + angle - *grid_angle_)) > tolerance) {
+                // The streets around looked like a grid, but none of the rules fits it: the
+                // first square rule that is placed sets the grid instead.
+                if (++report_->rejected_off_grid >= 20 && report_->placements == 0) grid_angle_.reset();
+                return false;
+            }
+        }
+        if (!place(p, Frame{size, angle * 180.0 / M_PI}, origin, at.a)) return false;
+        if (!grid_angle_ && p.squareness >= 0.6) grid_angle_ = wrap_quarter(p.square_angle + angle);
+        return true;
+    }
+
+    // Where no edge of the rule fits the street: one of the rule's ends or corners is put on
+    // an end of the street, the rule turned to lie beyond it, along the grid if there is one.
+    bool attach(const Prototype& p, const FrontierEdge& at) {
+        const bool first = std::bernoulli_distribution(0.5)(rng_);
+        const VertexId v = first ? at.a : at.b;
+        const Vec2 from_street = g_.positions[static_cast<std::size_t>(v)] - g_.positions[static_cast<std::size_t>(first ? at.b : at.a)];
+        std::uniform_int_distribution<std::size_t> vertex(0, p.attach.size() - 1);
+        const Vec2 pj = p.positions[static_cast<std::size_t>(p.attach[vertex(rng_)])];
+        const Vec2 body = p.centroid - pj;
+        double angle = std::atan2(from_street.y(), from_street.x()) - std::atan2(body.y(), body.x());
+        if (grid_city_ && grid_angle_ && p.squareness >= 0.6) angle += wrap_quarter(*grid_angle_ - (p.square_angle + angle));
+        std::uniform_real_distribution<double> unit(-1.0, 1.0);
+        const double size = p.size_m * (1.0 + o_.size_jitter * unit(rng_));
+        const Vec2 origin = g_.positions[static_cast<std::size_t>(v)] - Similarity2::from(size, angle, Vec2::Zero()).apply_linear(pj);
+        if (!place(p, Frame{size, angle * 180.0 / M_PI}, origin, v)) return false;
+        if (!grid_angle_ && p.squareness >= 0.6) grid_angle_ = wrap_quarter(p.square_angle + angle);
+        return true;
     }
 
     // No street reaches the region: the most frequent rule goes in its middle, along the
@@ -267,7 +351,9 @@ private:
         const double angle = std::atan2(axis.y(), axis.x());
         const Vec2 origin = centre_ - Similarity2::from(best->size_m, angle, Vec2::Zero()).apply_linear(best->centroid);
         ++report_->attempts;
-        place(*best, Frame{best->size_m, angle * 180.0 / M_PI}, origin, -1);
+        if (place(*best, Frame{best->size_m, angle * 180.0 / M_PI}, origin, -1) && best->squareness >= 0.6) {
+            grid_angle_ = wrap_quarter(best->square_angle + angle);
+        }
     }
 
     void place_by_hand(const RulePlacement& placed) {
@@ -460,6 +546,8 @@ private:
     bgi::rtree<SegmentEntry, bgi::rstar<16>> segments_;
     std::vector<FrontierEdge> frontier_;
     Vec2 centre_ = Vec2::Zero();
+    bool grid_city_ = false;
+    std::optional<double> grid_angle_; // the grid the growth keeps to (modulo 90 degrees), once there is one
 };
 
 } // namespace

@@ -50,6 +50,12 @@ struct GrowOptions {
     double size_jitter = 0.1;
     // Size of a rule without a learned size (hand-written grammars), metres per unit.
     double default_size_m = 100.0;
+    // When the grammar's city is a grid (its streets run mostly along two perpendicular
+    // directions), square rules keep to the grid of the streets around the region (where they
+    // form one) or of the first square rule placed, within this many degrees; 0 = any turn.
+    double grid_tolerance_deg = 10.0;
+    // How much more often a rule with a block (a cycle) is chosen: weight x (1 + this x cycles).
+    double block_preference = 1.0;
     // Join dead ends to a vertex ahead of them within this fraction of the typical edge length.
     double close_dead_ends = 0.8;
     std::vector<RulePlacement> placements; // rules placed by hand, grown from first
@@ -61,10 +67,12 @@ struct GrowReport {
     std::size_t rejected_outside = 0;  // a new vertex outside the region
     std::size_t rejected_crossing = 0; // a new street crossing another
     std::size_t rejected_crowded = 0;  // a new vertex too close to another
+    std::size_t rejected_off_grid = 0; // a square rule turned off the grid around
     std::size_t added_vertices = 0;
     std::size_t added_edges = 0;
     std::size_t border_connections = 0; // placements that started from a base street
     std::size_t closing_edges = 0;      // dead ends joined at the end
+    bool grid = false;                 // the grammar's city is a grid: square rules kept to one
     bool filled = false;               // stopped because nothing more fits (or no frontier left)
     bool stopped_by_budget = false;    // stopped at max_placements or max_vertices
 };
