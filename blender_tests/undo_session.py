@@ -9,7 +9,9 @@ what the file held at each step as JSON.
 MODE "import" (default): import the road file INPUT. MODE "grow": load the grammar file
 INPUT, add its axiom, then grow it by two steps (the step that is undone). MODE "city":
 import the road file INPUT, then build its city (the step that is undone). MODE "learn":
-import the road file INPUT, then learn a grammar of it (the step that is undone).
+import the road file INPUT, then learn a grammar of it (the step that is undone). MODE
+"grow_region": import the road file INPUT, learn its grammar, add a plane "Region" east of
+it, then grow the graph into the plane (the step that is undone).
 """
 
 import json
@@ -52,12 +54,20 @@ def run():
         area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
         region = next(r for r in area.regions if r.type == 'WINDOW')
         with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
-            if mode in ("city", "learn"):
+            if mode in ("city", "learn", "grow_region"):
                 result["load"] = sorted(bpy.ops.roads.import_osm('EXEC_DEFAULT', True, filepath=input_path,
                                                                  highways='ALL'))
             if mode == "grow":
                 result["load"] = sorted(bpy.ops.roads.load_grammar('EXEC_DEFAULT', True, filepath=input_path))
                 result["axiom"] = sorted(bpy.ops.roads.add_axiom('EXEC_DEFAULT', True))
+            if mode == "grow_region":
+                graph_obj = bpy.context.view_layer.objects.active
+                result["learn"] = sorted(bpy.ops.roads.learn('EXEC_DEFAULT', True))
+                mesh = bpy.data.meshes.new("Region")
+                mesh.from_pydata([(700.0, -600.0, 0.0), (1500.0, -600.0, 0.0), (1500.0, 600.0, 0.0),
+                                  (700.0, 600.0, 0.0)], [], [(0, 1, 2, 3)])
+                bpy.context.scene.collection.objects.link(bpy.data.objects.new("Region", mesh))
+                bpy.context.view_layer.objects.active = graph_obj
             bpy.ops.ed.undo_push(message="before")
             result["before"] = state()
             # undo=True: push an undo step as when the user runs the operator from the menu.
@@ -67,6 +77,8 @@ def run():
                 result["learn"] = sorted(bpy.ops.roads.learn('EXEC_DEFAULT', True, mode='LOSSLESS'))
             elif mode == "grow":
                 result["grow"] = sorted(bpy.ops.roads.grow('EXEC_DEFAULT', True, steps=2))
+            elif mode == "grow_region":
+                result["grow_region"] = sorted(bpy.ops.roads.grow_region('EXEC_DEFAULT', True, region="Region"))
             else:
                 result["import"] = sorted(bpy.ops.roads.import_osm('EXEC_DEFAULT', True, filepath=input_path))
             result["imported"] = state()

@@ -22,13 +22,13 @@ bl_info = {
 if "bpy" in locals():
     import importlib
 
-    for _module in (native, georef, mesh_build, surface, frames, importer, preferences, grammar,  # noqa: F821
-                    graph_edit, operators, grammar_ops, city, flythrough, city_ops, panels):  # noqa: F821
+    for _module in (native, georef, mesh_build, surface, frames, importer, preferences, region,  # noqa: F821
+                    grammar, graph_edit, operators, grammar_ops, city, flythrough, city_ops, panels):  # noqa: F821
         importlib.reload(_module)
     del _module
 else:
-    from . import (native, georef, mesh_build, surface, frames, importer, preferences, grammar, graph_edit,
-                   operators, grammar_ops, city, flythrough, city_ops, panels)
+    from . import (native, georef, mesh_build, surface, frames, importer, preferences, region, grammar,
+                   graph_edit, operators, grammar_ops, city, flythrough, city_ops, panels)
 
 # The graph analyzer (isogroups, find similar): its own modules, after the ones above.
 if "analysis" in locals():
@@ -63,6 +63,7 @@ classes = (
     grammar_ops.ROADS_OT_add_axiom,
     grammar_ops.ROADS_OT_place_rule,
     grammar_ops.ROADS_OT_grow,
+    grammar_ops.ROADS_OT_grow_region,
     panels.VIEW3D_PT_roads,
     panels.VIEW3D_PT_roads_grammar,
     city_ops.ROADS_PG_city,

@@ -1,6 +1,6 @@
 """The scene's grammar: a Text datablock holding a grammar file (ggg-grammar JSON, see
 docs/file-formats.md), so that it is saved inside the .blend, and the scene settings of
-the grammar operators (scene.road_grammar).
+the grammar operators (scene.road_grammar), Grow into Region's region object among them.
 
 The text is parsed by the native module (ggg.parse_grammar) when it is used; the last
 parse is cached by content, so the sidebar and the rule menus do not parse on every redraw,
@@ -12,6 +12,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, Po
 from bpy.types import PropertyGroup
 
 from . import native
+from .region import poll as _region_poll
 
 # Custom property of a grammar Text: the file it was loaded from.
 SOURCE_KEY = "road_grammar_source"
@@ -21,6 +22,11 @@ DEFAULT_STEPS = 1
 DEFAULT_MAX_VERTICES = 1_000_000
 DEFAULT_TOLERANCE = 0.05
 DEFAULT_TOLERANCE_M = 1.0
+# Grow into Region (ggg.grow_region's defaults).
+DEFAULT_REGION_SEED = 1
+DEFAULT_MAX_PLACEMENTS = 200
+DEFAULT_REGION_MAX_VERTICES = 200_000
+DEFAULT_PATIENCE = 150
 
 
 class GrammarUnavailable(Exception):
@@ -200,6 +206,54 @@ def strict_property(description):
     )
 
 
+def seed_property():
+    return IntProperty(
+        name="Seed",
+        description="Seed of the random choices (which street, rule and side next): the same seed gives the same "
+        "streets",
+        default=DEFAULT_REGION_SEED,
+        min=0,
+    )
+
+
+def max_placements_property():
+    return IntProperty(
+        name="Max Rules",
+        description="Most rules placed in the region (the placed rules of the graph count too)",
+        default=DEFAULT_MAX_PLACEMENTS,
+        min=1,
+        soft_max=5000,
+    )
+
+
+def region_max_vertices_property():
+    return IntProperty(
+        name="Max Vertices",
+        description="Vertex budget of the whole graph, its own vertices included: growth stops when it is reached",
+        default=DEFAULT_REGION_MAX_VERTICES,
+        min=1,
+    )
+
+
+def patience_property():
+    return IntProperty(
+        name="Patience",
+        description="Tries in a row that place nothing after which the region counts as full",
+        default=DEFAULT_PATIENCE,
+        min=1,
+        soft_max=2000,
+    )
+
+
+def use_placed_property():
+    return BoolProperty(
+        name="Use Placed Rules",
+        description="Grow the rules placed in the graph (its nonterminals, Place Rule) first; each one that fits "
+        "becomes streets, the others stay as they are. Off: they stay as they are, and growth leaves them out",
+        default=True,
+    )
+
+
 def _text_poll(_self, text):
     return not text.name.startswith(".")
 
@@ -222,6 +276,17 @@ class ROADS_PG_grammar(PropertyGroup):
     tolerance_m: tolerance_m_property("Tolerance")
     strict: strict_property("Rewrite a nonterminal only when every embedding point finds a vertex to connect "
                             "to (off: relaxed embedding, paper 3.3)")
+    region: PointerProperty(
+        name="Region",
+        type=bpy.types.Object,
+        description="Curve or mesh whose outline (seen from above) Grow into Region fills with streets",
+        poll=_region_poll,
+    )
+    region_seed: seed_property()
+    region_max_placements: max_placements_property()
+    region_max_vertices: region_max_vertices_property()
+    region_patience: patience_property()
+    region_use_placed: use_placed_property()
 
 
 def register():

@@ -1,6 +1,6 @@
 """Operators of the grammar workflow (paper 3.2-3.3): load a grammar into the scene, add
-its axiom, place a rule's nonterminal at the 3D cursor, and grow a road graph by
-derivation steps."""
+its axiom, place a rule's nonterminal at the 3D cursor, grow a road graph by derivation
+steps, and grow streets into a region with the grammar's rules (ggg.grow_region)."""
 
 import math
 import os
@@ -14,6 +14,7 @@ from mathutils import Vector
 import numpy as np
 
 from . import georef, grammar, graph_edit, importer, native, operators, preferences, surface
+from . import region as regions
 
 
 def _grammar_or_report(op, context):
@@ -39,6 +40,19 @@ def _plural(count, word):
         return "1 " + word
     plural = word[:-len("vertex")] + "vertices" if word.endswith("vertex") else word + "s"
     return "{:,} {}".format(count, plural)
+
+
+def _tries(count):
+    return "1 try" if count == 1 else "{:,} tries".format(count)
+
+
+def _rejections(report):
+    """Why the tries of ggg.grow_region failed: '12 outside, 3 crossing, 40 crowded'."""
+    parts = ["{:,} outside".format(report["rejected_outside"]), "{:,} crossing".format(report["rejected_crossing"]),
+             "{:,} crowded".format(report["rejected_crowded"])]
+    if report.get("rejected_off_grid"):
+        parts.append("{:,} off the grid".format(report["rejected_off_grid"]))
+    return ", ".join(parts)
 
 
 class ROADS_OT_load_grammar(Operator, ImportHelper):
@@ -344,3 +358,232 @@ class ROADS_OT_grow(Operator):
             reason = "none of its {} has a rule in the grammar '{}'".format(
                 _plural(old.nonterminal_count, "nonterminal"), parsed.name)
         return "Nothing was rewritten in {}: {}. The graph is unchanged.".format(graph_obj.name, reason)
+
+
+class _ThrottledProgress:
+    """The progress callback of ggg.grow_region (called on every try) passed on to an
+    importer.Progress only when the percentage or the message changes."""
+
+    def __init__(self, progress):
+        self._progress = progress
+        self._last = None
+
+    def __call__(self, fraction, message):
+        key = (int(100.0 * float(fraction)), message)
+        if key != self._last:
+            self._last = key
+            self._progress(fraction, message)
+        return True
+
+
+def placements_that_fit(ggg, base, parsed, polygon, placements):
+    """For each of ``placements`` (the tuples of ggg.grow_region), whether it fits into the
+    region (inside it, crossing no street, not crowding one) when they are placed in order.
+
+    ggg.grow_region places the rules placed by hand first, in order, before anything else,
+    without random choices; one that does not fit changes nothing. With patience=0 it stops
+    right after them, so its report counts the ones that fitted, except that when none did
+    and no street reaches the region it also seeds the region's middle (one try more than
+    the placements: then none fitted)."""
+
+    def fitted(prefix):
+        _graph, report = ggg.grow_region(base, parsed, polygon, patience=0, placements=prefix)
+        return 0 if report["attempts"] > len(prefix) else report["placements"]
+
+    if not placements:
+        return []
+    if fitted(placements) == len(placements):
+        return [True] * len(placements)
+    result, before = [], 0
+    for count in range(1, len(placements) + 1):
+        now = fitted(placements[:count])
+        result.append(now > before)
+        before = now
+    return result
+
+
+class ROADS_OT_grow_region(Operator):
+    """Grow streets into a region (a closed curve or a mesh, seen from above) with the active grammar's rules, from the active road graph's streets that reach it"""
+
+    bl_idname = "roads.grow_region"
+    bl_label = "Grow into Region"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    region: StringProperty(
+        name="Region",
+        description="Name of the curve or mesh object to fill (empty: the Region of the Grammar panel, else the "
+        "other selected curve or mesh)",
+        options={'SKIP_SAVE'},
+    )
+    seed: grammar.seed_property()
+    max_placements: grammar.max_placements_property()
+    max_vertices: grammar.region_max_vertices_property()
+    patience: grammar.patience_property()
+    use_placed_rules: grammar.use_placed_property()
+
+    _FROM_SETTINGS = {"seed": "region_seed", "max_placements": "region_max_placements",
+                      "max_vertices": "region_max_vertices", "patience": "region_patience",
+                      "use_placed_rules": "region_use_placed"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        layout.prop_search(self, "region", context.scene, "objects")
+        for name in self._FROM_SETTINGS:
+            layout.prop(self, name)
+
+    def invoke(self, context, event):
+        settings = context.scene.road_grammar
+        for name, setting in self._FROM_SETTINGS.items():
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, setting))
+        return self.execute(context)
+
+    def _region_object(self, context, graph_obj):
+        """The region object (named, the panel's, or the other selected one), or None after
+        an ERROR report."""
+        if self.region:
+            obj = bpy.data.objects.get(self.region)
+            if obj is None:
+                self.report({'ERROR'}, "No object named '{}' to grow into".format(self.region))
+            return obj
+        picked = context.scene.road_grammar.region
+        if picked is not None:
+            return picked
+        selected = [obj for obj in context.selected_objects
+                    if obj is not graph_obj and importer.road_graph_object(obj) is not graph_obj]
+        candidates = [obj for obj in selected if regions.is_candidate(obj)]
+        if len(candidates) == 1:
+            return candidates[0]
+        if not candidates:
+            self.report({'ERROR'}, "No region: pick one in the Grammar panel (Grow into Region), or select a closed "
+                        "curve or a mesh together with the road graph")
+        else:
+            self.report({'ERROR'}, "Several curves or meshes are selected ({}): select one region, or pick it in "
+                        "the Grammar panel".format(", ".join(sorted(obj.name for obj in candidates))))
+        return None
+
+    def execute(self, context):
+        graph_obj = importer.road_graph_object(context.active_object)
+        if graph_obj is None or graph_obj.type != 'MESH':
+            self.report({'ERROR'}, "Select a road graph to grow into a region (import roads, add an axiom or place a "
+                        "rule first)")
+            return {'CANCELLED'}
+        found = _grammar_or_report(self, context)
+        if found is None:
+            return {'CANCELLED'}
+        ggg, _text, parsed = found
+        if not hasattr(ggg, "grow_region"):
+            self.report({'ERROR'}, "The native module {} cannot grow into a region (it lacks grow_region); rebuild "
+                        "it".format(getattr(ggg, "__file__", "ggg")))
+            return {'CANCELLED'}
+        region_obj = self._region_object(context, graph_obj)
+        if region_obj is None:
+            return {'CANCELLED'}
+        if context.view_layer.objects.get(region_obj.name) != region_obj:
+            self.report({'ERROR'}, "The region {} is not in the view layer (deleted?): pick another one".format(
+                region_obj.name))
+            return {'CANCELLED'}
+        try:
+            polygon, loops = regions.polygon(region_obj, context.evaluated_depsgraph_get(), graph_obj)
+        except regions.RegionError as ex:
+            self.report({'ERROR'}, "Cannot grow into {}: {}".format(region_obj.name, ex))
+            return {'CANCELLED'}
+        self.region = region_obj.name  # the redo panel grows into the same region
+
+        with graph_edit.object_mode(context, graph_obj):
+            old = graph_edit.MeshGraph(graph_obj)
+            with importer.Progress(context, read_share=0.9, label="Growing into {}".format(region_obj.name)) \
+                    as progress:
+                try:
+                    graph = old.graph(ggg)
+                    # The streets grow; the nonterminals are left out (growth would take them
+                    # for street vertices), placed first when they are used.
+                    streets = old.symbols == 0
+                    base, base_ids, base_edge_ids = graph_edit.induced_subgraph(ggg, graph, streets)
+                    candidates, placements = self._placements(old, parsed)
+                    fits = placements_that_fit(ggg, base, parsed, polygon, placements)
+                    used = [vertex for vertex, fit in zip(candidates, fits) if fit]
+                    grown, report = ggg.grow_region(
+                        base, parsed, polygon, seed=self.seed, max_placements=self.max_placements,
+                        max_vertices=self.max_vertices, patience=self.patience,
+                        placements=[p for p, fit in zip(placements, fits) if fit],
+                        progress=_ThrottledProgress(progress))
+                except ggg.Error as ex:
+                    hint = " (or turn off Use Placed Rules)" if placements and isinstance(ex, ggg.UsageError) else ""
+                    self.report({'ERROR'}, "Cannot grow {} into {}: {}{}".format(graph_obj.name, region_obj.name, ex,
+                                                                                hint))
+                    return {'CANCELLED'}
+                if report["added_vertices"] == 0:
+                    self.report({'WARNING'}, self._nothing_message(graph_obj, region_obj, old, report))
+                    return {'CANCELLED'}
+                progress.step(0.0, "updating the mesh")
+                keep = np.ones(len(old.positions), dtype=bool)
+                keep[np.asarray(used, dtype=np.int64)] = False
+                try:
+                    result, source = graph_edit.appended(ggg, graph, keep, grown, base_ids, len(base_edge_ids))
+                except ggg.Error as ex:
+                    self.report({'ERROR'}, "Cannot grow {} into {}: {}".format(graph_obj.name, region_obj.name, ex))
+                    return {'CANCELLED'}
+                replacement = graph_edit.Replacement(graph_obj, old, result, {"source_vertex": source},
+                                                     _class_widths(context, ggg, result))
+                replacement.apply(context)
+                progress.step(1.0, "done")
+
+        if graph_obj.get("grammar") not in (None, parsed.name):
+            self.report({'WARNING'}, "{} was made with the grammar '{}', not '{}'".format(
+                graph_obj.name, graph_obj["grammar"], parsed.name))
+        if loops > 1:
+            self.report({'WARNING'}, "{} has {} outlines: grew into the largest".format(region_obj.name, loops))
+        left = len(placements) - len(used)
+        if left:
+            self.report({'WARNING'}, "{} did not fit into {} and {} left as {}".format(
+                _plural(left, "placed rule"), region_obj.name, "is" if left == 1 else "are",
+                "it was" if left == 1 else "they were"))
+        message = self._summary(graph_obj, region_obj, report, len(used))
+        self.report({'WARNING'} if report["stopped_by_budget"] else {'INFO'}, message)
+        return {'FINISHED'}
+
+    def _placements(self, old, parsed):
+        """(mesh vertex ids, ggg.grow_region placements) of the nonterminals to grow first:
+        with Use Placed Rules, each one whose symbol has a rule; the frame's scale and angle,
+        or the rule's learned size where the vertex has no frame."""
+        if not self.use_placed_rules:
+            return [], []
+        symbols = {int(rule["symbol"]) for rule in parsed.rules}
+        vertices, placements = [], []
+        for vertex in np.flatnonzero(old.symbols).tolist():
+            symbol = int(old.symbols[vertex])
+            if symbol not in symbols:
+                continue
+            a, b, x, y = (float(value) for value in old.frames[vertex])
+            scale = 0.0 if old.frame_missing[vertex] else math.hypot(a, b)
+            vertices.append(vertex)
+            placements.append((symbol, x, y, scale, math.degrees(math.atan2(b, a))))
+        return vertices, placements
+
+    def _summary(self, graph_obj, region_obj, report, placed):
+        parts = ["Grew {} into {}: {}, {}, {} ({} from the border".format(
+            graph_obj.name, region_obj.name, _plural(report["placements"], "rule"),
+            _plural(report["added_vertices"], "vertex"), _plural(report["added_edges"], "street"),
+            report["border_connections"])]
+        if report["closing_edges"]:
+            parts[0] += ", {} closing dead ends".format(report["closing_edges"])
+        parts[0] += ")"
+        if placed:
+            parts.append("{} grown".format(_plural(placed, "placed rule")))
+        if report["stopped_by_budget"]:
+            end = "stopped by budget ({:,} rules, {:,} vertices)".format(self.max_placements, self.max_vertices)
+        else:
+            end = "region full"
+        parts.append("{} after {} ({}); seed {}".format(end, _tries(report["attempts"]), _rejections(report),
+                                                       self.seed))
+        return "; ".join(parts)
+
+    def _nothing_message(self, graph_obj, region_obj, old, report):
+        if report["stopped_by_budget"] and report["placements"] == 0:
+            reason = "the graph has {:,} vertices, the budget is {:,}".format(len(old.positions), self.max_vertices)
+        else:
+            reason = "no rule fits there ({}: {})".format(_tries(report["attempts"]), _rejections(report))
+        return "Nothing grew in {} from {}: {}. The graph is unchanged.".format(region_obj.name, graph_obj.name, reason)

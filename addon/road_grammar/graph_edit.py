@@ -4,6 +4,8 @@
 columns of ggg.Graph.from_arrays; ``Replacement`` puts a derived graph back into the same
 mesh datablock and rebuilds the surface from the graph's own columns, as an import does.
 Everything is computed before the first change, so an error leaves the object as it was.
+``induced_subgraph`` and ``appended`` cut a ggg.Graph down to some of its vertices and add
+what ggg.grow_region grew (Grow into Region grows the streets without the nonterminals).
 
 ggg.derive keeps every vertex and edge that is not rewritten with all its columns (width,
 lanes, oneway, name, polyline). New edges come without a width tag and get the usual
@@ -47,10 +49,13 @@ class MeshGraph:
         self.symbols = np.zeros(n, dtype=np.int64) if self.symbols is None else np.maximum(self.symbols, 0)
         a = _values(mesh, FRAME_A, 'POINT', np.float64)
         b = _values(mesh, FRAME_B, 'POINT', np.float64)
+        without_frames = a is None or b is None
         a = np.ones(n) if a is None else a
         b = np.zeros(n) if b is None else b
         # A frame without scale (e.g. a vertex added by hand) becomes the unit frame.
         degenerate = ~(np.isfinite(a) & np.isfinite(b)) | (np.hypot(a, b) == 0.0)
+        # (Grow into Region gives such a vertex's rule its learned size instead.)
+        self.frame_missing = degenerate | without_frames
         a, b = np.where(degenerate, 1.0, a), np.where(degenerate, 0.0, b)
         self.frames = np.column_stack((a, b, self.positions))
         self.highway = _values(mesh, "highway", 'EDGE', np.int64)
@@ -90,6 +95,93 @@ class MeshGraph:
             vertex_symbols=self.symbols, vertex_frames=self.frames,
             edge_highway=highway, edge_width=self.columns.get("width"), edge_lanes=self.columns.get("lanes"),
             edge_oneway=self.columns.get("oneway"), edge_names=self.names, edge_geometry=self.geometry)
+
+
+def _polylines(offsets, points, edge_ids):
+    """(offsets, points) of the polylines of the edges ``edge_ids`` only, in that order."""
+    offsets = np.asarray(offsets, dtype=np.int64)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    edge_ids = np.asarray(edge_ids, dtype=np.int64)
+    starts = offsets[edge_ids]
+    counts = offsets[edge_ids + 1] - starts
+    new_offsets = np.zeros(len(edge_ids) + 1, dtype=np.int64)
+    np.cumsum(counts, out=new_offsets[1:])
+    index = np.repeat(starts, counts) + mesh_build._ramp(counts)
+    return new_offsets, points[index]
+
+
+def _assembled(ggg, graph, vertex_ids, edge_ids, edges, more=None):
+    """A ggg.Graph of the vertices ``vertex_ids`` and edges ``edge_ids`` of ``graph`` with
+    all their columns (``edges``: those edges renumbered), followed by ``more`` =
+    (grown, first vertex, first edge, edges): the vertices and edges of the ggg.Graph
+    ``grown`` from those ids on (``edges``: renumbered)."""
+    parts = [(graph, np.asarray(vertex_ids, dtype=np.int64), np.asarray(edge_ids, dtype=np.int64), edges)]
+    if more is not None:
+        grown, first_vertex, first_edge, grown_edges = more
+        parts.append((grown, np.arange(first_vertex, grown.vertex_count, dtype=np.int64),
+                      np.arange(first_edge, grown.edge_count, dtype=np.int64), grown_edges))
+    columns = {name: [] for name in ("positions", "symbols", "frames", "edges", "highway", "width", "lanes", "oneway",
+                                     "names", "offsets", "points")}
+    point_count = 0
+    for part, vertices, part_edges, renumbered in parts:
+        columns["positions"].append(np.asarray(part.positions, dtype=np.float64).reshape(-1, 2)[vertices])
+        columns["symbols"].append(np.asarray(part.vertex_symbols, dtype=np.int64)[vertices])
+        columns["frames"].append(np.asarray(part.vertex_frames, dtype=np.float64).reshape(-1, 4)[vertices])
+        columns["edges"].append(np.asarray(renumbered, dtype=np.int64).reshape(-1, 2))
+        columns["highway"].append(np.asarray(part.edge_highway, dtype=np.int64)[part_edges])
+        columns["width"].append(np.asarray(part.edge_width, dtype=np.float64)[part_edges])
+        columns["lanes"].append(np.asarray(part.edge_lanes, dtype=np.int64)[part_edges])
+        columns["oneway"].append(np.asarray(part.edge_oneway, dtype=np.int64)[part_edges])
+        names = part.edge_names
+        columns["names"].extend(names[i] for i in part_edges.tolist())
+        offsets, points = _polylines(*part.edge_geometry(), part_edges)
+        columns["offsets"].append(offsets[1:] + point_count if columns["offsets"] else offsets + point_count)
+        columns["points"].append(points)
+        point_count += len(points)
+    joined = {name: np.concatenate(values) for name, values in columns.items() if name != "names"}
+    return ggg.Graph.from_arrays(
+        joined["positions"], joined["edges"], origin_latlon=tuple(graph.origin_latlon),
+        vertex_symbols=joined["symbols"], vertex_frames=joined["frames"], edge_highway=joined["highway"],
+        edge_width=joined["width"], edge_lanes=joined["lanes"], edge_oneway=joined["oneway"],
+        edge_names=columns["names"], edge_geometry=(joined["offsets"], joined["points"]))
+
+
+def induced_subgraph(ggg, graph, keep):
+    """The part of the ggg.Graph ``graph`` on the vertices where ``keep`` is True and the
+    edges between them, with all their columns, in ``graph``'s order: (subgraph, its
+    vertices' ids in ``graph``, its edges' ids in ``graph``)."""
+    keep = np.asarray(keep, dtype=bool)
+    vertex_ids = np.flatnonzero(keep)
+    edges = np.asarray(graph.edges, dtype=np.int64).reshape(-1, 2)
+    edge_ids = np.flatnonzero(keep[edges[:, 0]] & keep[edges[:, 1]]) if len(edges) else np.zeros(0, np.int64)
+    index = np.full(len(keep), -1, dtype=np.int64)
+    index[vertex_ids] = np.arange(len(vertex_ids))
+    return _assembled(ggg, graph, vertex_ids, edge_ids, index[edges[edge_ids]]), vertex_ids, edge_ids
+
+
+def appended(ggg, graph, keep, grown, base_ids, base_edge_count):
+    """``graph`` cut down to the vertices where ``keep`` is True (and the edges between
+    them), followed by what ggg.grow_region added in ``grown``: the result of growing the
+    subgraph of ``graph`` on the vertices ``base_ids`` (all kept), whose first
+    ``base_edge_count`` edges were that subgraph's own.
+
+    Returns (graph, source_vertex): for each vertex of the result, its id in ``graph``, -1
+    for a grown one (what Replacement wants as the report's ``source_vertex``)."""
+    keep = np.asarray(keep, dtype=bool)
+    base_ids = np.asarray(base_ids, dtype=np.int64)
+    kept_ids = np.flatnonzero(keep)
+    index = np.full(len(keep), -1, dtype=np.int64)
+    index[kept_ids] = np.arange(len(kept_ids))
+    edges = np.asarray(graph.edges, dtype=np.int64).reshape(-1, 2)
+    edge_ids = np.flatnonzero(keep[edges[:, 0]] & keep[edges[:, 1]]) if len(edges) else np.zeros(0, np.int64)
+    grown_count = grown.vertex_count - len(base_ids)
+    # A vertex of ``grown``: one of the base (``base_ids``), else a new one after the kept.
+    grown_index = np.concatenate((index[base_ids], len(kept_ids) + np.arange(grown_count, dtype=np.int64)))
+    grown_edges = np.asarray(grown.edges, dtype=np.int64).reshape(-1, 2)[base_edge_count:]
+    result = _assembled(ggg, graph, kept_ids, edge_ids, index[edges[edge_ids]],
+                        (grown, len(base_ids), base_edge_count, grown_index[grown_edges]))
+    source = np.concatenate((kept_ids, np.full(grown_count, -1, dtype=np.int64)))
+    return result, source
 
 
 def _values(mesh, name, domain, dtype):
@@ -166,7 +258,8 @@ class Replacement:
     computed without touching Blender data; ``apply`` writes them.
 
     ``old`` is the MeshGraph the derivation started from, ``result`` and ``report`` what
-    ggg.derive returned, ``widths`` the road width of each edge of ``result``."""
+    ggg.derive returned (of the report, only ``source_vertex`` is read: Grow into Region
+    passes its own, see ``appended``), ``widths`` the road width of each edge of ``result``."""
 
     def __init__(self, graph_obj, old, result, report, widths):
         self.graph_obj = graph_obj
@@ -194,6 +287,8 @@ class Replacement:
         self.vertex_flags = {name: _carried(values, vertex_source) for name, values in old.vertex_flags.items()}
         self.edge_flags = {name: _carried(values, edge_source) for name, values in old.edge_flags.items()}
 
+        # The arrows of the nonterminals (a graph grown into a region may have none).
+        self.with_frames = bool(np.any(np.asarray(result.vertex_symbols)))
         self.surface_obj = importer.surface_object(graph_obj)
         self.offsets, self.points = result.edge_geometry()
         self.total_length_m = float(result.total_length_m)
@@ -208,7 +303,8 @@ class Replacement:
                     self.positions, self.edges, self.offsets, self.points, self.edge_attributes)
                 new_surface_mesh = created.add(mesh_build.new_edge_mesh(
                     self.surface_obj.data.name, points, segments, attributes))
-            importer.add_frames_modifier(self.graph_obj, created)
+            if self.with_frames:
+                importer.add_frames_modifier(self.graph_obj, created)
         except BaseException:
             created.remove_all()
             raise

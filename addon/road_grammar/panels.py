@@ -1,12 +1,12 @@
 """The "Roads" tab of the 3D view's sidebar: the Roads panel (import, the active road
 graph, the scene's georeference) and the Grammar panel (the scene's grammar, its rules,
-and the grammar operators with their settings)."""
+and the grammar operators with their settings, Grow into Region's region among them)."""
 
 from bpy.types import Panel
 
 from . import georef, grammar, importer, native
-from .grammar_ops import (ROADS_OT_add_axiom, ROADS_OT_grow, ROADS_OT_load_grammar, ROADS_OT_place_rule,
-                          ROADS_OT_save_grammar)
+from .grammar_ops import (ROADS_OT_add_axiom, ROADS_OT_grow, ROADS_OT_grow_region, ROADS_OT_load_grammar,
+                          ROADS_OT_place_rule, ROADS_OT_save_grammar)
 from .operators import ROADS_OT_import_osm
 
 road_graph_object = importer.road_graph_object
@@ -135,6 +135,24 @@ class VIEW3D_PT_roads_grammar(_RoadsTab, Panel):
         op = row.operator(ROADS_OT_grow.bl_idname, icon='PLAY')
         for name in ROADS_OT_grow._FROM_SETTINGS:
             setattr(op, name, getattr(settings, name))
+
+        box = layout.box()
+        box.label(text="Grow into Region", icon='MESH_PLANE')
+        box.prop(settings, "region")
+        if settings.region is None:
+            box.label(text="Or select a curve or mesh with the graph", icon='INFO')
+        col = box.column(align=True)
+        col.prop(settings, "region_seed")
+        col.prop(settings, "region_max_placements")
+        col.prop(settings, "region_patience")
+        col.prop(settings, "region_max_vertices")
+        box.prop(settings, "region_use_placed")
+        row = box.row()
+        row.enabled = graph is not None
+        op = row.operator(ROADS_OT_grow_region.bl_idname, icon='PLAY')
+        for name, setting in ROADS_OT_grow_region._FROM_SETTINGS.items():
+            setattr(op, name, getattr(settings, setting))
+        op.region = settings.region.name if settings.region is not None else ""
 
 
 class VIEW3D_PT_roads_city(_RoadsTab, Panel):
