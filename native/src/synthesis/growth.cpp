@@ -562,7 +562,10 @@ GeometricGraph grow_region(const GeometricGraph& base, const Grammar& grammar, c
         if (!region[i].allFinite()) throw UsageError("the region's corners must be finite numbers");
         area += cross(region[j], region[i]);
     }
-    if (!(std::abs(area) > 1e-6)) throw UsageError("the region has no area");
+    // No area: less than a millionth of the square of its extent (corners on a line).
+    double extent = 0.0;
+    for (const Vec2& p : region) extent = std::max(extent, (p - region.front()).norm());
+    if (!(std::abs(area) > 1e-6 * extent * extent) || !(extent > 0)) throw UsageError("the region has no area");
     if (!(options.snap >= 0) || !(options.spacing >= 0) || !(options.size_jitter >= 0 && options.size_jitter < 1) || !(options.turn_deg >= 0) ||
         !(options.default_size_m > 0) || !(options.close_dead_ends >= 0)) {
         throw UsageError("growth options out of range (spacing >= 0, 0 <= size jitter < 1, turn >= 0, default size > 0)");
