@@ -1,5 +1,6 @@
 """Road Grammar: import OpenStreetMap road networks as graphs and road surfaces, grow road
-graphs with geometric graph grammars, and learn grammars from road graphs.
+graphs with geometric graph grammars, find and replace their repeated patterns, and learn
+grammars from road graphs.
 
 The add-on calls the native library only through its Python module ``ggg`` (see
 native.py for where it is looked for). Registering never needs the module, so the
@@ -30,15 +31,17 @@ else:
     from . import (native, georef, mesh_build, surface, frames, importer, preferences, region, grammar,
                    graph_edit, operators, grammar_ops, city, flythrough, city_ops, panels)
 
-# The graph analyzer (isogroups, find similar): its own modules, after the ones above.
+# The graph analyzer (isogroups, find similar) and the replacement of its patterns (paper
+# Fig. 1): their own modules, after the ones above.
 if "analysis" in locals():
     import importlib
 
-    for _module in (jobs, pattern_display, analysis, analysis_ops, analysis_panels):  # noqa: F821
+    for _module in (jobs, pattern_display, analysis, analysis_ops, replacement, replacement_ops,  # noqa: F821
+                    analysis_panels):  # noqa: F821
         importlib.reload(_module)
     del _module
 else:
-    from . import jobs, pattern_display, analysis, analysis_ops, analysis_panels
+    from . import jobs, pattern_display, analysis, analysis_ops, replacement, replacement_ops, analysis_panels
 
 # Grammar learning (inverse procedural modelling): after the analyzer, whose parts it uses.
 if "learning" in locals():
@@ -79,9 +82,13 @@ classes = (
     analysis_ops.ROADS_OT_select_isogroup,
     analysis_ops.ROADS_OT_show_patterns,
     analysis_ops.ROADS_OT_clear_patterns,
+    replacement.ROADS_PG_replacement,
+    replacement_ops.ROADS_OT_store_replacement,
+    replacement_ops.ROADS_OT_replace_isogroup,
     analysis_panels.ROADS_UL_isogroups,
     analysis_panels.VIEW3D_PT_roads_patterns,
     analysis_panels.VIEW3D_PT_roads_isogroups,
+    analysis_panels.VIEW3D_PT_roads_replace,
     learning.ROADS_PG_learned_rule,
     learning.ROADS_PG_learning,
     learning.ROADS_PG_learning_settings,
@@ -99,6 +106,7 @@ def register():
     grammar.register()
     city_ops.register()
     analysis.register()
+    replacement.register()
     learning.register()
     bpy.types.TOPBAR_MT_file_import.append(operators.menu_import)
 
@@ -109,6 +117,8 @@ def unregister():
     learning_ops.stop_all()
     learning.unregister()
     analysis_ops.stop_all()
+    analysis.forget()
+    replacement.unregister()
     analysis.unregister()
     grammar.unregister()
     for cls in reversed(classes):

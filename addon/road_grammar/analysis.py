@@ -20,9 +20,17 @@ the analyzer sees it.
   The mesh vertex ids are the graph's (the graph is built from the mesh in vertex order,
   see ``MeshTopology``). ``topology`` holds a checksum of the mesh's vertex count and
   edges at analysis time: when the mesh has changed since, the ids no longer mean the same
-  vertices and the stored result is only listed, not shown.
+  vertices and the stored result is only listed, not shown. ``options`` holds the
+  arguments of ggg.analyze as JSON, so that the same analysis can be run again.
+
+The ggg.Isogroup objects themselves (with each occurrence's transform, which Replace
+needs) are not saved: the last analysis keeps them in memory (``remember``), and
+``live_isogroup`` gives back the one of a stored item, running the same analysis again
+when they are gone (after reopening the file or analysing another graph) or no longer fit
+(vertices moved), and checking that it finds the same occurrences.
 """
 
+import json
 import zlib
 
 import bmesh
@@ -214,6 +222,8 @@ class ROADS_PG_analysis(PropertyGroup):
     seconds: FloatProperty(name="Time", description="Duration of the analysis in seconds")
     max_order: IntProperty(name="Largest Order", description="Largest order of an isogroup found")
     parameters: StringProperty(name="Parameters", description="The parameters of the analysis")
+    options: StringProperty(name="Options", description="The arguments of ggg.analyze as JSON (to run the same "
+                            "analysis again)")
     topology: StringProperty(name="Topology", description="Checksum of the mesh the vertex ids refer to")
 
     def has_result(self):
@@ -336,9 +346,10 @@ class StoredAnalysis:
         self.max_order = max((iso.order for iso in all_groups), default=0)
 
 
-def store(obj, stored, topology, seconds, parameters, seeded):
+def store(obj, stored, topology, seconds, parameters, seeded, options=None):
     """Write ``stored`` (a StoredAnalysis of the graph ``topology``) into
-    ``obj.road_analysis``, replacing what was there. Returns the number of isogroups kept."""
+    ``obj.road_analysis``, replacing what was there; ``options``: the keyword arguments of
+    ggg.analyze that made it (without ``progress``). Returns the number of isogroups kept."""
     result = obj.road_analysis
     with pattern_display.suspended_updates():
         result.isogroups.clear()
@@ -359,9 +370,23 @@ def store(obj, stored, topology, seconds, parameters, seeded):
         result.seconds = float(seconds)
         result.max_order = stored.max_order
         result.parameters = parameters
+        result.options = options_json(options) if options is not None else ""
         result.topology = topology.checksum
         result.seeded = bool(seeded)
     return stored.count
+
+
+def options_json(options):
+    """The keyword arguments of ggg.analyze as JSON (arrays and tuples as lists)."""
+    def plain(value):
+        if isinstance(value, np.ndarray):
+            return value.tolist()
+        if isinstance(value, tuple):
+            return list(value)
+        if isinstance(value, np.generic):
+            return value.item()
+        return value
+    return json.dumps({name: plain(value) for name, value in options.items()}, sort_keys=True)
 
 
 def _starts(arrays):
@@ -374,8 +399,10 @@ def _concatenated(arrays):
     return np.concatenate(arrays).astype(np.int32) if arrays else np.zeros(0, dtype=np.int32)
 
 
-def clear(obj):
-    """Forget the analysis of ``obj`` (the colours stay until cleared separately)."""
+def clear(obj, forget_isogroups=True):
+    """Forget the analysis of ``obj`` (the colours stay until cleared separately) and, with
+    ``forget_isogroups``, the isogroups kept in memory for it (see ``remember``; they are
+    only used while the stored result is theirs, so they may stay for an undo)."""
     result = obj.road_analysis
     with pattern_display.suspended_updates():
         result.isogroups.clear()
@@ -385,9 +412,12 @@ def clear(obj):
             del result[key]
     result.topology = ""
     result.parameters = ""
+    result.options = ""
     result.detected = result.listed = result.max_order = 0
     result.seconds = 0.0
     result.stopped_by_budget = result.seeded = False
+    if forget_isogroups:
+        forget(obj)
 
 
 def _flat(result, key):
@@ -433,6 +463,94 @@ def check_current(obj, topology=None):
         raise StaleAnalysis("The road graph {} changed since it was analysed (vertices or edges added or removed): "
                             "analyse it again".format(obj.name))
     return topology
+
+
+# --- the isogroups themselves (ggg.Isogroup, with the occurrences' transforms) ---------------
+
+# Object name -> (key, isogroups): the ggg.Isogroup objects of the kept items of the last
+# analysis run in this session (one object at a time, so that a large analysis is not held
+# twice). ``key`` says what they were computed from: (topology checksum, positions digest,
+# options), so they are used only while the stored result and the vertices are the same.
+_live = {}
+
+
+def positions_digest(positions):
+    """A checksum of vertex positions (the transforms of an analysis depend on them)."""
+    return "{:08x}".format(zlib.crc32(np.ascontiguousarray(positions, dtype=np.float64).tobytes()))
+
+
+def _live_key(result, positions):
+    return (result.topology, positions_digest(positions), result.options)
+
+
+def remember(obj, topology, groups):
+    """Keep ``groups`` (the ggg.Isogroup objects of the items just stored in
+    ``obj.road_analysis``, computed from ``topology``, the MeshTopology analysed) for
+    ``live_isogroup``. Replaces what was kept for any object."""
+    _live.clear()
+    _live[obj.name] = (_live_key(obj.road_analysis, topology.positions), list(groups))
+
+
+def forget(obj=None):
+    """Drop the isogroups kept for ``obj`` (None: for every object)."""
+    if obj is None:
+        _live.clear()
+    else:
+        _live.pop(obj.name, None)
+
+
+def _same_occurrences(iso, occurrences, non_overlapping, pattern_edges):
+    return (np.array_equal(np.asarray(iso.occurrences, dtype=np.int64).reshape(occurrences.shape), occurrences)
+            and np.array_equal(np.asarray(iso.non_overlapping, dtype=np.int64), non_overlapping)
+            and np.array_equal(np.asarray(iso.pattern_edges, dtype=np.int64).reshape(-1, 2), pattern_edges))
+
+
+def live_isogroup(ggg, obj, index, topology=None, progress=None):
+    """The ggg.Isogroup of the stored item ``index`` of ``obj``'s analysis, as the mesh is
+    now: the one kept in memory when it was computed from these vertices, else that of the
+    same analysis (the stored ``options``) run again on the mesh (this can take as long as
+    Analyze). Either way it has exactly the stored occurrences and non-overlapping set.
+
+    Raises StaleAnalysis (no analysis, a changed mesh, no isogroup ``index``, no stored
+    options, or vertices moved so that the analysis finds other patterns), ggg.Cancelled
+    when ``progress`` cancels, ggg.Error when the library refuses the graph."""
+    topology = check_current(obj, topology)
+    result = obj.road_analysis
+    if not 0 <= index < len(result.isogroups):
+        raise StaleAnalysis("{} has no isogroup {}".format(obj.name, index + 1))
+    occurrences, non_overlapping, pattern_edges = isogroup_arrays(obj, index)
+    key = _live_key(result, topology.positions)
+    kept = _live.get(obj.name)
+    if kept is not None and kept[0] == key and index < len(kept[1]) and \
+            _same_occurrences(kept[1][index], occurrences, non_overlapping, pattern_edges):
+        return kept[1][index]
+    if not result.options:
+        raise StaleAnalysis("The analysis of {} does not say how it was made (an older version of the add-on?): "
+                            "analyse it again".format(obj.name))
+    try:
+        options = json.loads(result.options)
+    except ValueError as ex:
+        raise StaleAnalysis("The stored options of the analysis of {} cannot be read ({}): analyse it again".format(
+            obj.name, ex)) from ex
+    if not isinstance(options, dict):
+        raise StaleAnalysis("The stored options of the analysis of {} cannot be read: analyse it again".format(
+            obj.name))
+    if "grid" in options:
+        options["grid"] = tuple(options["grid"])
+    if "seed" in options:
+        options["seed"] = np.asarray(options["seed"], dtype=np.int64)
+    try:
+        again = ggg.analyze(topology.graph(ggg), progress=progress, **options)
+    except TypeError as ex:  # options the module does not take
+        raise StaleAnalysis("The analysis of {} cannot be run again ({}): analyse it again".format(obj.name, ex)) \
+            from ex
+    groups = again.isogroups[:len(result.isogroups)]  # a new list on every access: read once
+    if index >= len(groups) or not _same_occurrences(groups[index], occurrences, non_overlapping, pattern_edges):
+        raise StaleAnalysis("The vertices of {} moved since it was analysed and the analysis now finds other "
+                            "patterns: analyse it again".format(obj.name))
+    _live.clear()
+    _live[obj.name] = (key, list(groups))
+    return groups[index]
 
 
 def show_isogroup(obj, index, select=True, only_non_overlapping=False):

@@ -254,7 +254,11 @@ class ROADS_OT_analyze(jobs.ModalJobOperator, Operator):
             # (global) undo step with the colours.
             with context.temp_override(active_object=obj, object=obj, edit_object=obj):
                 bpy.ops.object.mode_set(mode='OBJECT')
-        kept = analysis.store(obj, stored, topology, job.seconds, self._parameters(), "seed" in self._options)
+        kept = analysis.store(obj, stored, topology, job.seconds, self._parameters(), "seed" in self._options,
+                              self._options)
+        # The isogroups themselves (with their transforms), for Replace; from the vertices
+        # that were analysed.
+        analysis.remember(obj, self._topology, groups[:kept])
         shown = analysis.show_overview(obj, self.overview_count)
         self.report({'INFO'}, self._summary(obj, result, groups, kept, shown, job.seconds))
         if stored.stopped_by_budget:

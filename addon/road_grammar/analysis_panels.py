@@ -1,11 +1,13 @@
 """The Patterns panel of the Roads sidebar tab: Find Similar, Analyze with its settings,
-and the isogroups of the last analysis in a list (choosing one highlights it)."""
+the isogroups of the last analysis in a list (choosing one highlights it), and Replace (the
+chosen isogroup's occurrences replaced by a stored piece)."""
 
 from bpy.types import Panel, UIList
 
 from . import analysis, analysis_ops, importer
 from .analysis_ops import (ROADS_OT_analyze, ROADS_OT_clear_patterns, ROADS_OT_find_similar,
                            ROADS_OT_select_isogroup, ROADS_OT_show_patterns)
+from .replacement_ops import ROADS_OT_replace_isogroup, ROADS_OT_store_replacement
 from .panels import _RoadsTab, _wrapped_labels
 
 # Columns of the isogroup list after the colour swatch: header and width (a fraction of
@@ -189,3 +191,55 @@ class VIEW3D_PT_roads_isogroups(_RoadsTab, Panel):
         op = row.operator(ROADS_OT_show_patterns.bl_idname, text="Overview", icon='COLOR')
         op.count = context.scene.road_analysis.overview_count
         row.operator(ROADS_OT_clear_patterns.bl_idname, text="Clear", icon='X')
+
+
+class VIEW3D_PT_roads_replace(_RoadsTab, Panel):
+    bl_label = "Replace"
+    bl_parent_id = "VIEW3D_PT_roads_patterns"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.road_replacement
+        graph = importer.road_graph_object(context.active_object)
+
+        box = layout.box()
+        box.label(text="Piece", icon='MESH_CIRCLE')
+        col = box.column(align=True)
+        if settings.has_piece():
+            col.label(text="{:,} vertices, {:,} streets".format(settings.vertex_count, settings.edge_count))
+            col.label(text="{:,.1f} x {:,.1f} m as drawn".format(settings.width_m, settings.height_m))
+            _wrapped_labels(col, "from " + settings.source, width=28)
+        else:
+            col.label(text="No piece stored")
+        row = box.row()
+        row.enabled = graph is not None
+        row.operator(ROADS_OT_store_replacement.bl_idname, text="Store Selection as Piece",
+                     icon='RESTRICT_SELECT_OFF').object = ""
+        if graph is not None and graph.mode != 'EDIT':
+            box.label(text="Select its vertices in Edit Mode")
+        box.prop(settings, "piece_object", text="")
+        row = box.row()
+        row.enabled = graph is not None and settings.piece_object is not None
+        op = row.operator(ROADS_OT_store_replacement.bl_idname, text="Store Object as Piece", icon='OBJECT_DATA')
+        op.object = settings.piece_object.name if settings.piece_object is not None else ""
+
+        box = layout.box()
+        box.label(text="Replace", icon='MOD_BOOLEAN')
+        col = box.column(align=True)
+        result = graph.road_analysis if graph is not None else None
+        index = result.active_index if result is not None else -1
+        chosen = result is not None and result.has_result() and 0 <= index < len(result.isogroups)
+        if graph is None:
+            col.label(text="No road graph selected")
+        elif not result.has_result():
+            col.label(text="Analyze first")
+        elif not chosen:
+            col.label(text="Choose an isogroup in the list")
+        else:
+            item = result.isogroups[index]
+            col.label(text="Isogroup {}: {} vertices".format(item.rank, item.order))
+            col.label(text="{:,} non-overlapping occurrences".format(item.non_overlapping_count))
+        row = box.row()
+        row.enabled = chosen and settings.has_piece()
+        op = row.operator(ROADS_OT_replace_isogroup.bl_idname, text="Replace", icon='PLAY')
+        op.index = index if chosen else -1
