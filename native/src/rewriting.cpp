@@ -326,7 +326,7 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
 }
 
 DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptions& options, const ProgressCallback& progress) {
-    validate(grammar);
+    if (!options.grammar_validated) validate(grammar);
     if (options.max_steps < 0) throw UsageError("the number of steps must be >= 0");
     if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance)) throw UsageError("the tolerance must be a finite number >= 0");
     DeriveReport result;

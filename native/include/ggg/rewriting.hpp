@@ -30,6 +30,10 @@ struct DeriveOptions {
     // vertices that the step does not rewrite; false (relaxed, paper 3.3): missing partners
     // are skipped.
     bool strict = false;
+    // The caller has already checked the grammar with validate(): derive skips doing it again
+    // (it costs time in the size of the grammar, which matters to callers deriving thousands of
+    // small graphs with one large learned grammar).
+    bool grammar_validated = false;
 };
 
 struct StepReport {

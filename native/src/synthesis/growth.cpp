@@ -112,6 +112,7 @@ Prototype prototype_of(const Grammar& grammar, const Rule& rule, int depth, cons
     DeriveOptions d;
     d.max_steps = depth + 1;
     d.max_vertices = 20'000;
+    d.grammar_validated = true; // by grow_region
     derive(g, grammar, d);
     std::vector<int> index(g.vertex_count(), -1);
     for (std::size_t v = 0; v < g.vertex_count(); ++v) {
@@ -398,6 +399,7 @@ private:
         d.max_steps = depth_ + 1;
         d.max_vertices = local.vertex_count() + 20'000;
         d.tolerance = o_.snap; // relative to the rule's size: vertices this close become one
+        d.grammar_validated = true;
         const DeriveReport derived = derive(local, grammar_, d);
 
         // What the placement adds: new vertices, and edges that were not there.
