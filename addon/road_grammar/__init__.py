@@ -24,12 +24,13 @@ if "bpy" in locals():
     import importlib
 
     for _module in (native, georef, mesh_build, surface, frames, importer, preferences, region,  # noqa: F821
-                    grammar, graph_edit, operators, grammar_ops, city, flythrough, city_ops, panels):  # noqa: F821
+                    grammar, graph_edit, operators, grammar_ops, stitch_ops, city, flythrough, city_ops,  # noqa: F821
+                    panels):  # noqa: F821
         importlib.reload(_module)
     del _module
 else:
     from . import (native, georef, mesh_build, surface, frames, importer, preferences, region, grammar,
-                   graph_edit, operators, grammar_ops, city, flythrough, city_ops, panels)
+                   graph_edit, operators, grammar_ops, stitch_ops, city, flythrough, city_ops, panels)
 
 # The graph analyzer (isogroups, find similar) and the replacement of its patterns (paper
 # Fig. 1): their own modules, after the ones above.
@@ -67,6 +68,7 @@ classes = (
     grammar_ops.ROADS_OT_place_rule,
     grammar_ops.ROADS_OT_grow,
     grammar_ops.ROADS_OT_grow_region,
+    stitch_ops.ROADS_OT_stitch_cities,
     panels.VIEW3D_PT_roads,
     panels.VIEW3D_PT_roads_grammar,
     city_ops.ROADS_PG_city,

@@ -16,6 +16,12 @@ from .region import poll as _region_poll
 
 # Custom property of a grammar Text: the file it was loaded from.
 SOURCE_KEY = "road_grammar_source"
+# Which grammar a nonterminal placed by Place Rule comes from: the point attribute
+# RULE_GRAMMAR of the graph mesh is k > 0 for the grammar Text named
+# object[RULE_GRAMMARS_KEY][k - 1], 0 for a vertex without a note (a street vertex, or a
+# nonterminal of an axiom, a derivation or an imported file: the grammar of its object).
+RULE_GRAMMAR = "rule_grammar"
+RULE_GRAMMARS_KEY = "rule_grammars"
 
 DEFAULT_SCALE = 100.0
 DEFAULT_STEPS = 1
@@ -34,25 +40,67 @@ class GrammarUnavailable(Exception):
     says which."""
 
 
-_cache = {"key": None, "result": None}
+# Text name -> (content, ggg.Grammar or the error), for the last few texts parsed (the
+# scene's grammar, the one Place Rule uses, the two of Stitch Cities).
+_cache = {}
+_CACHED_TEXTS = 8
 
 
 def parse_text(text):
     """The ggg.Grammar of a Text datablock; raises ggg.GrammarError (or NativeModuleError)."""
     ggg = native.load()
     content = text.as_string()
-    key = (text.name_full, content)
-    if _cache["key"] == key:
-        result = _cache["result"]
+    cached = _cache.get(text.name_full)
+    if cached is not None and cached[0] == content:
+        result = cached[1]
     else:
         try:
             result = ggg.parse_grammar(content, text.name_full)
         except ggg.Error as ex:
             result = ex
-        _cache["key"], _cache["result"] = key, result
+        _cache.pop(text.name_full, None)
+        while len(_cache) >= _CACHED_TEXTS:
+            _cache.pop(next(iter(_cache)))
+        _cache[text.name_full] = (content, result)
     if isinstance(result, Exception):
         raise result
     return result
+
+
+def of_text(text):
+    """(Text, ggg.Grammar) of a grammar Text; raises GrammarUnavailable or
+    native.NativeModuleError."""
+    ggg = native.load()
+    try:
+        return text, parse_text(text)
+    except ggg.Error as ex:
+        raise GrammarUnavailable("The grammar text '{}' is not a valid grammar: {}".format(text.name, ex)) from ex
+
+
+def named(name):
+    """(Text, ggg.Grammar) of the Text ``name``; raises GrammarUnavailable (no such text,
+    not a grammar) or native.NativeModuleError."""
+    text = bpy.data.texts.get(name)
+    if text is None:
+        raise GrammarUnavailable("No text named '{}' holds a grammar".format(name))
+    return of_text(text)
+
+
+def looks_like_grammar(text):
+    """Whether a Text looks like a grammar file (its beginning names the format), without
+    parsing it: what the grammar pickers list."""
+    if text is None or text.name.startswith("."):
+        return False
+    if text.get(SOURCE_KEY) is not None or text.get("road_grammar_learned_from") is not None:
+        return True
+    head = "".join(line.body for line in text.lines[:4])[:400]
+    return '"ggg-grammar"' in head
+
+
+def learned_text(obj):
+    """The grammar Text learned from the road graph ``obj`` (its Learn result), else None."""
+    result = getattr(obj, "road_learning", None)
+    return result.text if result is not None else None
 
 
 def active_text(context):
@@ -66,11 +114,19 @@ def active(context):
     text = active_text(context)
     if text is None:
         raise GrammarUnavailable("No grammar in this scene: load one (Roads sidebar > Grammar > Load)")
-    ggg = native.load()
-    try:
-        return text, parse_text(text)
-    except ggg.Error as ex:
-        raise GrammarUnavailable("The grammar text '{}' is not a valid grammar: {}".format(text.name, ex)) from ex
+    return of_text(text)
+
+
+def chosen_text(owner, context):
+    """The grammar Text a rule menu lists: the one its owner names (Place Rule's
+    ``grammar``, the panel's ``place_grammar``), else the scene's."""
+    name = getattr(owner, "grammar", None)
+    if isinstance(name, str) and name:
+        return bpy.data.texts.get(name)
+    picked = getattr(owner, "place_grammar", None)
+    if isinstance(picked, bpy.types.Text):
+        return picked
+    return active_text(context)
 
 
 def try_active(context):
@@ -102,7 +158,13 @@ _rule_items = []
 def rule_items(_self, context):
     """Enum items of the active grammar's rules: (symbol name, "name (k)", description)."""
     items = []
-    _text, parsed, _message = try_active(context) if context is not None else (None, None, None)
+    parsed = None
+    if context is not None:
+        text = chosen_text(_self, context)
+        try:
+            parsed = of_text(text)[1] if text is not None else None
+        except (GrammarUnavailable, native.NativeModuleError):
+            parsed = None
     if parsed is not None:
         # Values by position, so that the default (0) is the first rule of any grammar.
         for index, rule in enumerate(parsed.rules):
@@ -254,8 +316,35 @@ def use_placed_property():
     )
 
 
+DEFAULT_STITCH_SHARE = 0.5
+
+
+def share_property():
+    return FloatProperty(
+        name="Share of the Active City",
+        description="Share of the rules that the active city's grammar places: its growth stops after this share of "
+        "the rules that would fill the region alone, and the other city's grammar fills the rest (1: the other "
+        "city's grammar only fills what is left)",
+        default=DEFAULT_STITCH_SHARE, min=0.0, max=1.0, subtype='FACTOR',
+    )
+
+
 def _text_poll(_self, text):
     return not text.name.startswith(".")
+
+
+def _grammar_text_poll(_self, text):
+    return looks_like_grammar(text)
+
+
+def place_grammar_property():
+    return PointerProperty(
+        name="Grammar",
+        type=bpy.types.Text,
+        description="Grammar whose rule Place Rule places (empty: the scene's grammar); each learned road graph "
+        "keeps its own",
+        poll=_grammar_text_poll,
+    )
 
 
 class ROADS_PG_grammar(PropertyGroup):
@@ -267,6 +356,7 @@ class ROADS_PG_grammar(PropertyGroup):
         description="Text holding the active grammar (a ggg-grammar JSON file, kept in the .blend)",
         poll=_text_poll,
     )
+    place_grammar: place_grammar_property()
     rule: rule_property("Rule whose nonterminal Place Rule puts at the 3D cursor")
     scale: scale_property("Metres for one unit of the rule: the scale of the placed nonterminal's frame")
     steps: steps_property()
@@ -287,6 +377,7 @@ class ROADS_PG_grammar(PropertyGroup):
     region_max_vertices: region_max_vertices_property()
     region_patience: patience_property()
     region_use_placed: use_placed_property()
+    stitch_share: share_property()
 
 
 def register():

@@ -177,17 +177,34 @@ def _cursor_angle(cursor):
 
 
 class ROADS_OT_place_rule(Operator):
-    """Place a nonterminal of a rule of the active grammar at the 3D cursor, turned as the cursor, in the active road graph (or a new one)"""
+    """Place a nonterminal of a rule of a grammar (the scene's, or the one named) at the 3D cursor, turned as the cursor, in the active road graph (or a new one)"""
 
     bl_idname = "roads.place_rule"
     bl_label = "Place Rule"
     bl_options = {'REGISTER', 'UNDO'}
 
+    # (Before ``rule``: Blender sets the properties in this order, and the rule menu lists
+    # the rules of this grammar.)
+    grammar: StringProperty(
+        name="Grammar",
+        description="Name of the Text holding the grammar whose rule is placed (empty: the scene's grammar), e.g. "
+        "the grammar learned from another road graph",
+    )
     rule: grammar.rule_property("Rule whose nonterminal is placed")
     scale: grammar.scale_property("Metres for one unit of the rule (the scale of the nonterminal's frame)")
 
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        layout.prop_search(self, "grammar", bpy.data, "texts")
+        layout.prop(self, "rule")
+        layout.prop(self, "scale")
+
     def invoke(self, context, event):
         settings = context.scene.road_grammar
+        if not self.properties.is_property_set("grammar") and settings.place_grammar is not None:
+            self.grammar = settings.place_grammar.name
         if not self.properties.is_property_set("rule") and settings.rule not in ('', 'NONE'):
             self.rule = settings.rule
         if not self.properties.is_property_set("scale"):
@@ -195,10 +212,12 @@ class ROADS_OT_place_rule(Operator):
         return self.execute(context)
 
     def execute(self, context):
-        found = _grammar_or_report(self, context)
-        if found is None:
+        try:
+            ggg = native.load()
+            text, parsed = grammar.named(self.grammar) if self.grammar else grammar.active(context)
+        except (native.NativeModuleError, grammar.GrammarUnavailable) as ex:
+            self.report({'ERROR'}, str(ex))
             return {'CANCELLED'}
-        ggg, text, parsed = found
         rule = grammar.rule_of(parsed, self.rule)
         if rule is None:
             self.report({'ERROR'}, "The grammar '{}' has no rule '{}'".format(parsed.name, self.rule))
@@ -220,7 +239,7 @@ class ROADS_OT_place_rule(Operator):
                 context, empty, list(ggg.highway_classes()), [], parsed.name, text.name, None,
                 target=target, with_frames=True, properties={"grammar": parsed.name})
             warning = target.warning
-        elif graph_obj.get("grammar") not in (None, parsed.name):
+        elif graph_obj.get("grammar") not in (None, parsed.name) and text != grammar.learned_text(graph_obj):
             warning = "{} was made with the grammar '{}', not '{}'".format(
                 graph_obj.name, graph_obj["grammar"], parsed.name)
 
@@ -233,8 +252,10 @@ class ROADS_OT_place_rule(Operator):
             if not (scale > 0.0 and math.isfinite(scale)):
                 self.report({'ERROR'}, "Cannot place a rule in {}: its transform is degenerate".format(graph_obj.name))
                 return {'CANCELLED'}
-            graph_edit.add_nonterminal(graph_obj, (location.x, location.y), rule["symbol"],
-                                       (scale * math.cos(angle), scale * math.sin(angle)))
+            vertex = graph_edit.add_nonterminal(graph_obj, (location.x, location.y), rule["symbol"],
+                                                (scale * math.cos(angle), scale * math.sin(angle)))
+            # Which grammar the nonterminal comes from (Stitch Cities grows it with that one).
+            graph_edit.note_grammar(graph_obj, vertex, text.name)
             created = importer.Created()
             importer.add_frames_modifier(graph_obj, created)
             if graph_obj.get("grammar") is None:
@@ -244,9 +265,9 @@ class ROADS_OT_place_rule(Operator):
         context.view_layer.objects.active = graph_obj
         if warning:
             self.report({'WARNING'}, warning)
-        self.report({'INFO'}, "Placed {} ({}) in {} at ({:.1f}, {:.1f}) m, {:.1f}\u00b0, scale {:g} m".format(
-            rule["name"], rule["symbol"], graph_obj.name, location.x, location.y, math.degrees(angle_world),
-            self.scale))
+        self.report({'INFO'}, "Placed {} ({}) of '{}' in {} at ({:.1f}, {:.1f}) m, {:.1f}\u00b0, scale {:g} m".format(
+            rule["name"], rule["symbol"], text.name, graph_obj.name, location.x, location.y,
+            math.degrees(angle_world), self.scale))
         return {'FINISHED'}
 
 
@@ -402,6 +423,32 @@ def placements_that_fit(ggg, base, parsed, polygon, placements):
     return result
 
 
+def region_object(op, context, graph_objs):
+    """The region object of Grow into Region and Stitch Cities: the one named by the
+    operator's ``region``, else the panel's picker, else the one other curve or mesh selected
+    with the road graphs ``graph_objs``; None after an ERROR report."""
+    if op.region:
+        obj = bpy.data.objects.get(op.region)
+        if obj is None:
+            op.report({'ERROR'}, "No object named '{}' to grow into".format(op.region))
+        return obj
+    picked = context.scene.road_grammar.region
+    if picked is not None:
+        return picked
+    selected = [obj for obj in context.selected_objects
+                if obj not in graph_objs and importer.road_graph_object(obj) not in graph_objs]
+    candidates = [obj for obj in selected if regions.is_candidate(obj)]
+    if len(candidates) == 1:
+        return candidates[0]
+    if not candidates:
+        op.report({'ERROR'}, "No region: pick one in the Grammar panel (Grow into Region), or select a closed "
+                  "curve or a mesh together with the road graph")
+    else:
+        op.report({'ERROR'}, "Several curves or meshes are selected ({}): select one region, or pick it in "
+                  "the Grammar panel".format(", ".join(sorted(obj.name for obj in candidates))))
+    return None
+
+
 class ROADS_OT_grow_region(Operator):
     """Grow streets into a region (a closed curve or a mesh, seen from above) with the active grammar's rules, from the active road graph's streets that reach it"""
 
@@ -441,28 +488,7 @@ class ROADS_OT_grow_region(Operator):
         return self.execute(context)
 
     def _region_object(self, context, graph_obj):
-        """The region object (named, the panel's, or the other selected one), or None after
-        an ERROR report."""
-        if self.region:
-            obj = bpy.data.objects.get(self.region)
-            if obj is None:
-                self.report({'ERROR'}, "No object named '{}' to grow into".format(self.region))
-            return obj
-        picked = context.scene.road_grammar.region
-        if picked is not None:
-            return picked
-        selected = [obj for obj in context.selected_objects
-                    if obj is not graph_obj and importer.road_graph_object(obj) is not graph_obj]
-        candidates = [obj for obj in selected if regions.is_candidate(obj)]
-        if len(candidates) == 1:
-            return candidates[0]
-        if not candidates:
-            self.report({'ERROR'}, "No region: pick one in the Grammar panel (Grow into Region), or select a closed "
-                        "curve or a mesh together with the road graph")
-        else:
-            self.report({'ERROR'}, "Several curves or meshes are selected ({}): select one region, or pick it in "
-                        "the Grammar panel".format(", ".join(sorted(obj.name for obj in candidates))))
-        return None
+        return region_object(self, context, (graph_obj,))
 
     def execute(self, context):
         graph_obj = importer.road_graph_object(context.active_object)

@@ -354,3 +354,126 @@ def add_nonterminal(graph_obj, position, symbol, frame_ab):
     mesh.attributes[FRAME_B].data[n].value = float(frame_ab[1])
     mesh.update()
     return n
+
+
+# --- joining two road graphs (Stitch Cities) ------------------------------------------------
+
+# Untagged values of the ranged columns, for a graph that lacks one of them.
+_UNTAGGED = {name: (dtype, untagged) for name, (dtype, _accepted, untagged) in _RANGED_COLUMNS.items()}
+
+
+def _stacked(first, second, n_first, n_second, dtype, fill):
+    """``first`` and ``second`` one after the other; a missing one (None) as ``fill``."""
+    if first is None and second is None:
+        return None
+    parts = [np.full(n, fill, dtype=dtype) if values is None else np.asarray(values, dtype=dtype)
+             for values, n in ((first, n_first), (second, n_second))]
+    return np.concatenate(parts)
+
+
+def _stacked_attributes(first, second, n_first, n_second):
+    """{name: (kind, values)} of two meshes' user attributes one after the other; an
+    attribute of one only is zero on the other's elements, and one whose type differs
+    between them takes the first's type."""
+    joined = {}
+    for name in list(first) + [name for name in second if name not in first]:
+        kind, values = first.get(name, second.get(name))
+        dtype = np.asarray(values).dtype
+        a = first[name][1] if name in first else None
+        b = second[name][1] if name in second else None
+        joined[name] = (kind, _stacked(a, b, n_first, n_second, dtype, 0))
+    return joined
+
+
+def joined(ggg, first, second, matrix):
+    """A MeshGraph of ``first``'s vertices and edges followed by ``second``'s (both
+    MeshGraphs), ``second``'s brought into ``first``'s frame by the 4x4 ``matrix`` (seen from
+    above: its x, y rows; the frames of its nonterminals turned and scaled by its linear
+    part). Every column and attribute follows its vertex or edge; one that only one of them
+    has is untagged (or zero) on the other's."""
+    matrix = np.asarray(matrix, dtype=np.float64)
+    linear, shift = matrix[:2, :2], matrix[:2, 3]
+    n1, n2 = len(first.positions), len(second.positions)
+    e1, e2 = len(first.edges), len(second.edges)
+    out = MeshGraph.__new__(MeshGraph)
+    moved = second.positions @ linear.T + shift
+    out.positions = np.concatenate((first.positions, moved))
+    out.edges = np.concatenate((first.edges, second.edges + n1)).reshape(-1, 2)
+    out.symbols = np.concatenate((first.symbols, second.symbols))
+    out.frame_missing = np.concatenate((first.frame_missing, second.frame_missing))
+    ab = second.frames[:, :2] @ linear.T
+    out.frames = np.column_stack((np.concatenate((first.frames[:, :2], ab)), out.positions))
+    road = ggg.highway_classes().index("road") if "road" in ggg.highway_classes() else 0
+    out.highway = _stacked(first.highway, second.highway, e1, e2, np.int64, road)
+    out.columns, out.refused = {}, {}
+    for name, (dtype, untagged) in _UNTAGGED.items():
+        values = _stacked(first.columns.get(name), second.columns.get(name), e1, e2, dtype, untagged)
+        if values is not None:
+            out.columns[name] = values
+        if name in first.refused or name in second.refused:
+            masks, originals = [], []
+            for part, count in ((first, e1), (second, e2)):
+                refused, original = part.refused.get(name, (np.zeros(count, dtype=bool), None))
+                masks.append(refused)
+                originals.append(np.full(count, untagged, dtype=dtype) if original is None else original)
+            out.refused[name] = (np.concatenate(masks), np.concatenate(originals).astype(dtype))
+    if first.names is None and second.names is None:
+        out.names = None
+    else:
+        out.names = list(first.names or [""] * e1) + list(second.names or [""] * e2)
+    offsets, points = [], []
+    for part, shape in ((first, None), (second, (linear, shift))):
+        geometry = part.geometry
+        if geometry is None:
+            geometry = mesh_build.complete_polylines(np.zeros(len(part.edges) + 1, dtype=np.int64), np.zeros((0, 2)),
+                                                     part.positions, part.edges)
+        part_offsets, part_points = (np.asarray(geometry[0], dtype=np.int64),
+                                     np.asarray(geometry[1], dtype=np.float64).reshape(-1, 2))
+        if shape is not None:
+            part_points = part_points @ shape[0].T + shape[1]
+        offsets.append(part_offsets if not offsets else part_offsets[1:] + len(points[0]))
+        points.append(part_points)
+    out.geometry = (np.concatenate(offsets), np.concatenate(points))
+    out.edge_attributes = _stacked_attributes(first.edge_attributes, second.edge_attributes, e1, e2)
+    out.point_attributes = _stacked_attributes(first.point_attributes, second.point_attributes, n1, n2)
+    out.vertex_flags = {name: _stacked(first.vertex_flags.get(name), second.vertex_flags.get(name), n1, n2, bool,
+                                       False) for name in first.vertex_flags}
+    out.edge_flags = {name: _stacked(first.edge_flags.get(name), second.edge_flags.get(name), e1, e2, bool, False)
+                      for name in first.edge_flags}
+    out.origin_latlon = first.origin_latlon
+    return out
+
+
+def note_grammar(graph_obj, vertex, text_name):
+    """Record on the nonterminal ``vertex`` of the graph mesh that it comes from the grammar
+    Text ``text_name`` (the point attribute grammar.RULE_GRAMMAR: k > 0 for the k-th name of
+    the object's list grammar.RULE_GRAMMARS_KEY)."""
+    from . import grammar
+
+    names = list(graph_obj.get(grammar.RULE_GRAMMARS_KEY, []))
+    if text_name not in names:
+        names.append(text_name)
+        graph_obj[grammar.RULE_GRAMMARS_KEY] = names
+    mesh = graph_obj.data
+    attribute = mesh.attributes.get(grammar.RULE_GRAMMAR)
+    if attribute is not None and (attribute.domain != 'POINT' or attribute.data_type != 'INT'):
+        mesh.attributes.remove(attribute)
+        attribute = None
+    if attribute is None:
+        mesh_build.set_attribute(mesh, grammar.RULE_GRAMMAR, 'INT', 'POINT', np.zeros(len(mesh.vertices)))
+    mesh.attributes[grammar.RULE_GRAMMAR].data[vertex].value = names.index(text_name) + 1
+
+
+def noted_grammars(graph_obj, old, default):
+    """For each vertex of the MeshGraph ``old`` of ``graph_obj``, the name of the grammar
+    Text its nonterminal comes from: the note of Place Rule, else ``default``."""
+    from . import grammar
+
+    names = list(graph_obj.get(grammar.RULE_GRAMMARS_KEY, []))
+    noted = old.point_attributes.get(grammar.RULE_GRAMMAR)
+    result = [default] * len(old.positions)
+    if noted is not None:
+        for vertex, k in enumerate(np.asarray(noted[1], dtype=np.int64).tolist()):
+            if 1 <= k <= len(names):
+                result[vertex] = names[k - 1]
+    return result

@@ -8,6 +8,7 @@ from . import georef, grammar, importer, native
 from .grammar_ops import (ROADS_OT_add_axiom, ROADS_OT_grow, ROADS_OT_grow_region, ROADS_OT_load_grammar,
                           ROADS_OT_place_rule, ROADS_OT_save_grammar)
 from .operators import ROADS_OT_import_osm
+from .stitch_ops import ROADS_OT_stitch_cities, city_grammar_text, selected_graphs
 
 road_graph_object = importer.road_graph_object
 
@@ -112,9 +113,12 @@ class VIEW3D_PT_roads_grammar(_RoadsTab, Panel):
         box = layout.box()
         box.label(text="Place at the 3D Cursor", icon='PIVOT_CURSOR')
         col = box.column(align=True)
+        # The grammar whose rules are placed: empty for the scene's, or e.g. another city's.
+        col.prop(settings, "place_grammar", text="")
         col.prop(settings, "rule", text="")
         col.prop(settings, "scale")
         op = box.operator(ROADS_OT_place_rule.bl_idname, icon='EMPTY_SINGLE_ARROW')
+        op.grammar = settings.place_grammar.name if settings.place_grammar is not None else ""
         if settings.rule not in ('', 'NONE'):
             op.rule = settings.rule
         op.scale = settings.scale
@@ -153,6 +157,8 @@ class VIEW3D_PT_roads_grammar(_RoadsTab, Panel):
         for name, setting in ROADS_OT_grow_region._FROM_SETTINGS.items():
             setattr(op, name, getattr(settings, setting))
         op.region = settings.region.name if settings.region is not None else ""
+
+        _draw_stitch(layout, context, settings)
 
 
 class VIEW3D_PT_roads_city(_RoadsTab, Panel):
@@ -213,6 +219,31 @@ class VIEW3D_PT_roads_city(_RoadsTab, Panel):
             op.animation = animation
             for name in city_ops.ROADS_OT_render_city._FROM_SETTINGS:
                 setattr(op, name, getattr(settings, name))
+
+
+def _draw_stitch(layout, context, settings):
+    """The Stitch Cities box: the two selected road graphs, their grammars, the button (the
+    region and the settings are those of Grow into Region)."""
+    box = layout.box()
+    box.label(text="Stitch Cities", icon='AUTOMERGE_ON')
+    active, others = selected_graphs(context)
+    col = box.column(align=True)
+    if active is None or len(others) != 1:
+        col.label(text="Select two road graphs (the one to keep active)", icon='INFO')
+    else:
+        for obj, fallback in ((active, True), (others[0], False)):
+            text = city_grammar_text(context, obj, fallback)
+            col.label(text="{}: {}".format(obj.name, text.name if text is not None else "no grammar"),
+                      icon='OUTLINER_OB_MESH')
+        col.label(text="{} is joined into {}".format(others[0].name, active.name))
+    box.prop(settings, "stitch_share")
+    box.label(text="Region, seed and budgets: as for Grow into Region", icon='INFO')
+    row = box.row()
+    row.enabled = active is not None and len(others) == 1
+    op = row.operator(ROADS_OT_stitch_cities.bl_idname, icon='PLAY')
+    for name, setting in ROADS_OT_stitch_cities._FROM_SETTINGS.items():
+        setattr(op, name, getattr(settings, setting))
+    op.region = settings.region.name if settings.region is not None else ""
 
 
 def _wrapped_labels(layout, text, width=48):

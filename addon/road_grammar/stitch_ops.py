@@ -1,0 +1,376 @@
+"""Stitch Cities (paper Fig. 18): two road graphs side by side, each with its own grammar,
+joined by growing the gap between them with the rules of both.
+
+roads.stitch_cities joins the other selected road graph into the active one (its vertices
+brought into the active object's frame, every edge attribute kept), grows the region with
+the active city's grammar (seed), then again with the other city's (seed + 1) from the
+streets that reach the region, the first city's new ones among them, so that growth from
+both sides meets, writes the result into the active object (graph_edit.Replacement, as
+Grow into Region does) and removes the other graph object with its surface and displays.
+Everything is computed before the first change: an error leaves the scene as it was.
+"""
+
+import bpy
+import numpy as np
+from bpy.props import StringProperty
+from bpy.types import Operator
+
+from . import grammar, graph_edit, importer, native
+from . import region as regions
+from .grammar_ops import _ThrottledProgress, _class_widths, _plural, _rejections, _tries, placements_that_fit
+from .grammar_ops import region_object
+
+
+def selected_graphs(context, other_name=""):
+    """(active road graph or None, the other road graphs: the one named, else the selected
+    ones that are not the active one)."""
+    active = importer.road_graph_object(context.active_object)
+    if active is not None and active.type != 'MESH':
+        active = None
+    if other_name:
+        obj = bpy.data.objects.get(other_name)
+        graph = importer.road_graph_object(obj)
+        return active, ([graph] if graph is not None and graph is not active else [])
+    others = []
+    for obj in context.selected_objects:
+        graph = importer.road_graph_object(obj)
+        if graph is not None and graph is not active and graph not in others and graph.type == 'MESH':
+            others.append(graph)
+    return active, others
+
+
+def city_grammar_text(context, obj, fallback_to_scene):
+    """The grammar Text of a city: the one learned from its road graph, else (for the
+    active city) the scene's grammar."""
+    text = grammar.learned_text(obj)
+    if text is None and fallback_to_scene:
+        text = grammar.active_text(context)
+    return text
+
+
+def _children(obj):
+    """``obj``'s children, grandchildren, ... (depth first)."""
+    found = []
+    for child in obj.children:
+        found.append(child)
+        found.extend(_children(child))
+    return found
+
+
+def remove_graph_object(graph_obj):
+    """Remove a road graph object with what belongs to it (its surface, its Rules and
+    Patterns displays, their meshes); other children are unparented where they are."""
+    from . import pattern_display, rule_display
+
+    owned = [graph_obj]
+    for child in _children(graph_obj):
+        if child.get(importer.SURFACE_KEY) or child.get(rule_display.OBJECT_KEY) or \
+                child.get(pattern_display.OBJECT_KEY):
+            owned.append(child)
+        elif child.parent in owned:
+            matrix = child.matrix_world.copy()
+            child.parent = None
+            child.matrix_world = matrix
+    meshes = [obj.data for obj in owned if isinstance(obj.data, bpy.types.Mesh)]
+    for obj in reversed(owned):
+        bpy.data.objects.remove(obj)
+    for mesh in meshes:
+        if mesh.users == 0:
+            bpy.data.meshes.remove(mesh)
+
+
+class ROADS_OT_stitch_cities(Operator):
+    """Stitch two road graphs (the active one and one other selected): join the other into the active one and grow the region between them with the grammar of each"""
+
+    bl_idname = "roads.stitch_cities"
+    bl_label = "Stitch Cities"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    other: StringProperty(
+        name="Other City",
+        description="Name of the road graph joined into the active one (empty: the other selected road graph)",
+        options={'SKIP_SAVE'},
+    )
+    region: StringProperty(
+        name="Region",
+        description="Name of the curve or mesh object to fill (empty: the Region of the Grammar panel, else the "
+        "selected curve or mesh that is not a road graph)",
+        options={'SKIP_SAVE'},
+    )
+    share: grammar.share_property()
+    seed: grammar.seed_property()
+    max_placements: grammar.max_placements_property()
+    max_vertices: grammar.region_max_vertices_property()
+    patience: grammar.patience_property()
+    use_placed_rules: grammar.use_placed_property()
+
+    _FROM_SETTINGS = {"share": "stitch_share", "seed": "region_seed", "max_placements": "region_max_placements",
+                      "max_vertices": "region_max_vertices", "patience": "region_patience",
+                      "use_placed_rules": "region_use_placed"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        layout.prop_search(self, "other", context.scene, "objects")
+        layout.prop_search(self, "region", context.scene, "objects")
+        for name in self._FROM_SETTINGS:
+            layout.prop(self, name)
+
+    def invoke(self, context, event):
+        settings = context.scene.road_grammar
+        for name, setting in self._FROM_SETTINGS.items():
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, setting))
+        return self.execute(context)
+
+    # --- what to stitch ------------------------------------------------------------------
+
+    def _cities(self, context):
+        """(active graph, other graph) or None after an ERROR report."""
+        active, others = selected_graphs(context, self.other)
+        if active is None:
+            self.report({'ERROR'}, "Stitch Cities needs two road graphs: select the other one, then the one to keep "
+                        "(active)")
+            return None
+        if self.other and not others:
+            self.report({'ERROR'}, "'{}' is not another road graph to stitch to {}".format(self.other, active.name))
+            return None
+        if len(others) != 1:
+            if not others:
+                self.report({'ERROR'}, "Stitch Cities needs two road graphs: only {} is selected (select the other "
+                            "city too)".format(active.name))
+            else:
+                self.report({'ERROR'}, "Stitch Cities joins two road graphs, {} are selected ({}): select one "
+                            "besides the active {}".format(len(others) + 1, ", ".join(sorted(o.name for o in others)),
+                                                           active.name))
+            return None
+        other = others[0]
+        if context.view_layer.objects.get(other.name) != other:
+            self.report({'ERROR'}, "The road graph {} is not in the view layer".format(other.name))
+            return None
+        return active, other
+
+    def _grammars(self, context, active, other):
+        """((Text, Grammar) of the active city, (Text, Grammar) of the other or None), or
+        None after an ERROR report; a warning when the other city has none."""
+        text_a = city_grammar_text(context, active, True)
+        if text_a is None:
+            self.report({'ERROR'}, "No grammar for {}: learn it (Roads sidebar > Learn) or load one into the scene"
+                        .format(active.name))
+            return None
+        text_b = city_grammar_text(context, other, False)
+        try:
+            first = grammar.of_text(text_a)
+            second = grammar.of_text(text_b) if text_b is not None else None
+        except (grammar.GrammarUnavailable, native.NativeModuleError) as ex:
+            self.report({'ERROR'}, str(ex))
+            return None
+        return first, second
+
+    def _placements(self, old, notes, text_name, parsed):
+        """(vertex ids of the joined graph, placements) of the nonterminals that come from
+        the grammar ``text_name`` and have a rule in it (with Use Placed Rules)."""
+        if not self.use_placed_rules or parsed is None:
+            return [], []
+        symbols = {int(rule["symbol"]) for rule in parsed.rules}
+        vertices, placements = [], []
+        for vertex in np.flatnonzero(old.symbols).tolist():
+            symbol = int(old.symbols[vertex])
+            if notes[vertex] != text_name or symbol not in symbols:
+                continue
+            a, b, x, y = (float(value) for value in old.frames[vertex])
+            scale = 0.0 if old.frame_missing[vertex] else float(np.hypot(a, b))
+            vertices.append(vertex)
+            placements.append((symbol, x, y, scale, float(np.degrees(np.arctan2(b, a)))))
+        return vertices, placements
+
+    # --- running -------------------------------------------------------------------------
+
+    def execute(self, context):
+        ggg = native.load_or_report(self)
+        if ggg is None:
+            return {'CANCELLED'}
+        cities = self._cities(context)
+        if cities is None:
+            return {'CANCELLED'}
+        active, other = cities
+        grammars = self._grammars(context, active, other)
+        if grammars is None:
+            return {'CANCELLED'}
+        (text_a, parsed_a), second = grammars
+        text_b, parsed_b = second if second is not None else (None, None)
+        region_obj = region_object(self, context, (active, other))
+        if region_obj is None:
+            return {'CANCELLED'}
+        if context.view_layer.objects.get(region_obj.name) != region_obj:
+            self.report({'ERROR'}, "The region {} is not in the view layer (deleted?): pick another one".format(
+                region_obj.name))
+            return {'CANCELLED'}
+        try:
+            polygon, loops = regions.polygon(region_obj, context.evaluated_depsgraph_get(), active)
+        except regions.RegionError as ex:
+            self.report({'ERROR'}, "Cannot stitch into {}: {}".format(region_obj.name, ex))
+            return {'CANCELLED'}
+        # The redo panel stitches the same objects.
+        self.region, self.other = region_obj.name, other.name
+        name_a, name_b = active.name, other.name
+
+        with graph_edit.object_mode(context, active):
+            outcome = self._stitch(context, ggg, active, other, region_obj, polygon, text_a, parsed_a, text_b,
+                                   parsed_b)
+        if outcome is None:
+            return {'CANCELLED'}
+        reports, left = outcome
+
+        if second is None:
+            self.report({'WARNING'}, "{} has no grammar (learn it first): the gap grew with {}'s rules only".format(
+                name_b, name_a))
+        if loops > 1:
+            self.report({'WARNING'}, "{} has {} outlines: grew into the largest".format(region_obj.name, loops))
+        if left:
+            self.report({'WARNING'}, "{} did not fit into {} and {} left as {}".format(
+                _plural(left, "placed rule"), region_obj.name, "is" if left == 1 else "are",
+                "it was" if left == 1 else "they were"))
+        budget = any(report["stopped_by_budget"] for report in reports["passes"])
+        self.report({'WARNING'} if budget else {'INFO'}, self._summary(name_a, name_b, region_obj, reports))
+        return {'FINISHED'}
+
+    def _stitch(self, context, ggg, active, other, region_obj, polygon, text_a, parsed_a, text_b, parsed_b):
+        """Compute, then write; (counts, placed rules left) or None after a report."""
+        old_a, old_b = graph_edit.MeshGraph(active), graph_edit.MeshGraph(other)
+        n_a, n_b = len(old_a.positions), len(old_b.positions)
+        matrix = np.array(active.matrix_world.inverted() @ other.matrix_world, dtype=np.float64)
+        # Which grammar each nonterminal comes from: Place Rule's note, else its city's.
+        notes = graph_edit.noted_grammars(active, old_a, text_a.name) + \
+            graph_edit.noted_grammars(other, old_b, text_b.name if text_b is not None else "")
+        old = graph_edit.joined(ggg, old_a, old_b, matrix)
+        names = sorted({note for note, symbol in zip(notes, old.symbols.tolist()) if note and symbol > 0})
+        if names or grammar.RULE_GRAMMAR in old.point_attributes:
+            # The notes, renumbered for the joined graph's list of grammar names.
+            old.point_attributes[grammar.RULE_GRAMMAR] = ('INT', np.array(
+                [names.index(note) + 1 if note and symbol > 0 else 0
+                 for note, symbol in zip(notes, old.symbols.tolist())], dtype=np.int64))
+
+        label = "Stitching {} and {}".format(active.name, other.name)
+        with importer.Progress(context, read_share=0.9, label=label) as progress:
+            passes = [(text_a, parsed_a, self.seed, parsed_b is not None and self.share < 1.0)]
+            if parsed_b is not None:
+                passes.append((text_b, parsed_b, self.seed + 1, False))
+            used, reports, first_placed = [], [], None
+            left = 0
+            try:
+                graph = old.graph(ggg)
+                streets = old.symbols == 0
+                base, base_ids, base_edge_ids = graph_edit.induced_subgraph(ggg, graph, streets)
+                grown = base
+                # The rules placed by hand go first, each with its own grammar: the other
+                # city's before anything grows (patience 0: only them), the active city's
+                # at the start of its growth.
+                placed = {}
+                for text, parsed in ((text_b, parsed_b), (text_a, parsed_a)):
+                    if parsed is None or text.name in placed:
+                        continue
+                    candidates, placements = self._placements(old, notes, text.name, parsed)
+                    fits = placements_that_fit(ggg, grown, parsed, polygon, placements)
+                    used.extend(vertex for vertex, fit in zip(candidates, fits) if fit)
+                    placed[text.name] = [p for p, fit in zip(placements, fits) if fit]
+                    left += len(placements) - len(placed[text.name])
+                    if text is not text_a and placed[text.name]:
+                        grown, first_placed = ggg.grow_region(
+                            grown, parsed, polygon, seed=self.seed + 1, max_placements=len(placed[text.name]),
+                            max_vertices=self.max_vertices, patience=0, placements=placed[text.name])
+                        placed[text.name] = []
+                for text, parsed, seed, shared in passes:
+                    fitting = placed.pop(text.name, [])
+
+                    def grow(max_placements):
+                        return ggg.grow_region(
+                            grown, parsed, polygon, seed=seed, max_placements=max_placements,
+                            max_vertices=self.max_vertices, patience=self.patience, placements=fitting,
+                            progress=_ThrottledProgress(progress))
+
+                    result = grow(self.max_placements)
+                    if shared:
+                        # The active city's share of what it would place alone; the other's
+                        # grammar grows the rest of the region.
+                        alone = result[1]["placements"]
+                        limit = max(len(fitting), int(round(self.share * alone)))
+                        if limit == 0:  # (share 0: the other city's grammar grows it all)
+                            result = (grown, {key: (False if isinstance(value, bool) else 0)
+                                              for key, value in result[1].items()})
+                        elif limit < alone:
+                            result = grow(limit)
+                        if limit < alone:
+                            result[1]["stopped_by_budget"] = False  # (the share, not a budget)
+                            result[1]["share_of"] = alone
+                    grown, report = result
+                    reports.append(report)
+            except ggg.Error as ex:
+                hint = " (or turn off Use Placed Rules)" if isinstance(ex, ggg.UsageError) and self.use_placed_rules \
+                    else ""
+                self.report({'ERROR'}, "Cannot stitch {} and {} into {}: {}{}".format(
+                    active.name, other.name, region_obj.name, ex, hint))
+                return None
+            if first_placed is not None:
+                # (The other city's placed rules count as its rules.)
+                reports[-1]["placements"] += first_placed["placements"]
+                for key in ("added_vertices", "added_edges"):
+                    reports[-1][key] += first_placed[key]
+            added = sum(report["added_vertices"] for report in reports)
+            if added == 0:
+                self.report({'WARNING'}, "Nothing grew in {} between {} and {}: no rule fits there ({}: {}). The "
+                            "scene is unchanged.".format(region_obj.name, active.name, other.name,
+                                                         _tries(reports[0]["attempts"]), _rejections(reports[0])))
+                return None
+            progress.step(0.0, "updating the mesh")
+            keep = np.ones(len(old.positions), dtype=bool)
+            keep[np.asarray(used, dtype=np.int64)] = False
+            try:
+                result, source = graph_edit.appended(ggg, graph, keep, grown, base_ids, len(base_edge_ids))
+            except ggg.Error as ex:
+                self.report({'ERROR'}, "Cannot stitch {} and {}: {}".format(active.name, other.name, ex))
+                return None
+            replacement = graph_edit.Replacement(active, old, result, {"source_vertex": source},
+                                                 _class_widths(context, ggg, result))
+            # The new streets that end on a vertex of either city.
+            edges = np.asarray(result.edges, dtype=np.int64).reshape(-1, 2)
+            new_edges = sum(report["added_edges"] for report in reports)
+            ends = source[edges[len(edges) - new_edges:]]
+            from_a = int(np.count_nonzero(((ends >= 0) & (ends < n_a)).any(axis=1)))
+            from_b = int(np.count_nonzero(((ends >= n_a) & (ends < n_a + n_b)).any(axis=1)))
+
+            replacement.apply(context)
+            if names:
+                active[grammar.RULE_GRAMMARS_KEY] = names
+            elif grammar.RULE_GRAMMARS_KEY in active:
+                del active[grammar.RULE_GRAMMARS_KEY]
+            remove_graph_object(other)
+            active.select_set(True)
+            context.view_layer.objects.active = active
+            progress.step(1.0, "done")
+        counts = {"passes": reports, "added_vertices": added, "added_edges": new_edges, "from_a": from_a,
+                  "from_b": from_b, "placed": len(used)}
+        return counts, left
+
+    def _summary(self, name_a, name_b, region_obj, counts):
+        passes = counts["passes"]
+        rules_b = passes[1]["placements"] if len(passes) > 1 else 0
+        parts = ["Stitched {} and {} in {}: {} of {}, {} of {}, {}, {} new streets, {} from {}'s streets, {} from "
+                 "{}'s".format(name_a, name_b, region_obj.name, _plural(passes[0]["placements"], "rule"), name_a,
+                               _plural(rules_b, "rule"), name_b, _plural(counts["added_vertices"], "vertex"),
+                               "{:,}".format(counts["added_edges"]), counts["from_a"], name_a, counts["from_b"],
+                               name_b)]
+        if counts["placed"]:
+            parts.append("{} grown".format(_plural(counts["placed"], "placed rule")))
+        ends = []
+        for name, report in zip((name_a, name_b), passes):
+            if "share_of" in report:
+                ends.append("{}: its share ({:,} of {})".format(name, report["placements"],
+                                                                _plural(report["share_of"], "rule")))
+                continue
+            end = "stopped by budget" if report["stopped_by_budget"] else "region full"
+            ends.append("{}: {} after {}".format(name, end, _tries(report["attempts"])))
+        parts.append(", ".join(ends))
+        parts.append("seed {}".format(self.seed) + (" and {}".format(self.seed + 1) if len(passes) > 1 else ""))
+        return "; ".join(parts)
