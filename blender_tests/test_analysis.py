@@ -2,11 +2,6 @@
 choosing an isogroup, Find Similar, bad seeds, cancelling, persistence in the .blend, and
 (in a windowed Blender under Xvfb) undo and the modal run with Esc."""
 
-import json
-import os
-import shutil
-import subprocess
-from pathlib import Path
 from types import SimpleNamespace
 
 import bmesh
@@ -14,50 +9,12 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import import_roads, snapshot, write_osm
+from conftest import (SIZE, SPACING, PanelLayout, cancel_at_first_progress, draw_panel, record_executes,
+                      run_analysis_session, snapshot, write_grid)
 from road_grammar import analysis, analysis_ops, analysis_panels, importer, mesh_build, pattern_display
 
-HERE = Path(__file__).resolve().parent
-
-# A 5 x 5 street grid, 100 m blocks (16 squares), with two dead-end spurs that belong to no
-# square: one 60 m east of the middle of the east side, and a curved footway (two shape
-# nodes) ending 50 m south-west of a corner.
-SPACING = 100.0
-SIZE = 5
-LAT0, LON0 = 46.0, 8.95
-M_PER_DEG_LAT = 111_195.0
-
-
-def _latlon(x, y):
-    lon_scale = M_PER_DEG_LAT * np.cos(np.radians(LAT0))
-    return LAT0 + y / M_PER_DEG_LAT, LON0 + x / lon_scale
-
-
-def write_grid(path):
-    nodes = {}
-    for j in range(SIZE):
-        for i in range(SIZE):
-            nodes[1 + j * SIZE + i] = _latlon(i * SPACING, j * SPACING)
-    nodes[100] = _latlon((SIZE - 1) * SPACING + 60.0, 2 * SPACING)
-    nodes[101] = _latlon(-35.0, -35.0)
-    nodes[102], nodes[103] = _latlon(-5.0, -20.0), _latlon(-15.0, -33.0)
-    ways = []
-    for j in range(SIZE):
-        ways.append((1000 + j, [1 + j * SIZE + i for i in range(SIZE)], {"highway": "residential"}))
-    for i in range(SIZE):
-        ways.append((2000 + i, [1 + j * SIZE + i for j in range(SIZE)], {"highway": "residential"}))
-    ways.append((3000, [1 + 2 * SIZE + SIZE - 1, 100], {"highway": "service"}))
-    ways.append((3001, [1, 102, 103, 101], {"highway": "footway"}))
-    return write_osm(path, nodes, ways)
-
-
-@pytest.fixture
-def grid(tmp_path, ggg):
-    """The imported grid's graph object (active, Object Mode)."""
-    assert import_roads(write_grid(tmp_path / "grid.osm"), highways='ALL') == {'FINISHED'}
-    obj = bpy.context.active_object
-    assert len(obj.data.vertices) == SIZE * SIZE + 2 and len(obj.data.edges) == 2 * SIZE * (SIZE - 1) + 2
-    return obj
+# The tests run on the street grid of conftest.write_grid (the fixture grid): SIZE x SIZE
+# streets SPACING apart, and two dead-end spurs that belong to no square.
 
 
 def grid_cells(obj):
@@ -136,37 +93,10 @@ def mesh_state(obj):
 
 
 @pytest.fixture
-def reports(capsys):
-    """The (type, message) reports printed so far (background Blender prints them)."""
-    kinds = {"Info": 'INFO', "Warning": 'WARNING', "Error": 'ERROR'}
-    seen = []
-
-    def read():
-        for line in capsys.readouterr().out.splitlines():
-            kind, _, message = line.partition(": ")
-            if kind in kinds:
-                seen.append((kinds[kind], message))
-        return seen
-
-    return read
-
-
-@pytest.fixture
 def op_results(monkeypatch):
     """What each analysis operator's execute() returned (bpy.ops raises on ERROR reports)."""
-    results = []
-
-    def recorder(original):
-        def recording_execute(self, context):
-            result = original(self, context)
-            results.append(result)
-            return result
-        return recording_execute
-
-    for cls in (analysis_ops.ROADS_OT_find_similar, analysis_ops.ROADS_OT_analyze,
-                analysis_ops.ROADS_OT_select_isogroup, analysis_ops.ROADS_OT_show_patterns):
-        monkeypatch.setattr(cls, "execute", recorder(cls.execute))
-    return results
+    return record_executes(monkeypatch, analysis_ops.ROADS_OT_find_similar, analysis_ops.ROADS_OT_analyze,
+                           analysis_ops.ROADS_OT_select_isogroup, analysis_ops.ROADS_OT_show_patterns)
 
 
 # --- Analyze ------------------------------------------------------------------------------
@@ -321,16 +251,7 @@ def test_cancel_through_the_progress_callback_changes_nothing(grid, monkeypatch,
     assert bpy.ops.roads.analyze(max_order=3) == {'FINISHED'}
     grid.road_analysis.active_index = 0
     before = mesh_state(grid), snapshot()
-    calls = []
-    original = analysis_ops.AnalysisJob.__call__
-
-    def cancelling(self, fraction, message):
-        calls.append((fraction, message))
-        original(self, fraction, message)
-        self.cancel()  # as Esc does: the next answer to the library is "stop"
-        return self.keep_going()
-
-    monkeypatch.setattr(analysis_ops.AnalysisJob, "__call__", cancelling)
+    calls = cancel_at_first_progress(monkeypatch, analysis_ops.AnalysisJob)
     assert bpy.ops.roads.analyze(max_order=8, full=True) == {'CANCELLED'}
     assert len(calls) == 1
     kind, message = reports()[-1]
@@ -575,63 +496,25 @@ def test_display_follows_the_road_surface(grid):
 
 # --- the panel -------------------------------------------------------------------------------
 
-class _Layout:
-    """Stands in for a UILayout: records labels, accepts everything else."""
-
-    def __init__(self, labels):
-        self._labels = labels
-
-    def label(self, text="", **_kwargs):
-        self._labels.append(text)
-
-    def __getattr__(self, name):
-        return lambda *args, **kwargs: _Layout(self._labels)
-
-
-def _draw(panel):
-    labels = []
-    panel.draw(SimpleNamespace(layout=_Layout(labels)), bpy.context)
-    return "\n".join(labels)
-
-
 def test_panels_draw(grid):
-    assert "Analyze grid" in _draw(analysis_panels.VIEW3D_PT_roads_patterns)
-    assert "Not analysed yet" in _draw(analysis_panels.VIEW3D_PT_roads_isogroups)
+    assert "Analyze grid" in draw_panel(analysis_panels.VIEW3D_PT_roads_patterns)
+    assert "Not analysed yet" in draw_panel(analysis_panels.VIEW3D_PT_roads_isogroups)
     assert bpy.ops.roads.analyze(max_order=4) == {'FINISHED'}
     grid.road_analysis.active_index = square_group(grid)
-    text = _draw(analysis_panels.VIEW3D_PT_roads_isogroups)
+    text = draw_panel(analysis_panels.VIEW3D_PT_roads_isogroups)
     assert "{} isogroups, ".format(grid.road_analysis.listed) in text and "max\norder 4" in text
     assert "4 vertices, 4 edges" in text and "16 occurrences" in text and "4 non-overlapping" in text
     labels = []
     item = grid.road_analysis.isogroups[square_group(grid)]
     ui_list = SimpleNamespace(layout_type='DEFAULT')
-    analysis_panels.ROADS_UL_isogroups.draw_item(ui_list, bpy.context, _Layout(labels), None, item, 0, None, "")
+    analysis_panels.ROADS_UL_isogroups.draw_item(ui_list, bpy.context, PanelLayout(labels), None, item, 0, None, "")
     assert labels == ["4", "16", "4", "{:.0f}".format(item.gain)]
 
 
 # --- undo and the modal run, in a Blender with a window -------------------------------------
 
 def _session(ggg, tmp_path, mode, *extra_flags):
-    xvfb_run = shutil.which("xvfb-run")
-    if xvfb_run is None:
-        pytest.skip("xvfb-run is not installed (apt-get install xvfb xauth): undo and modal operators need a "
-                    "Blender window, and `blender -b` has no undo stack")
-    import road_grammar
-
-    grid_path = write_grid(tmp_path / "grid.osm")
-    output = tmp_path / "session.json"
-    env = dict(os.environ)
-    env["GGG_MODULE_DIR"] = str(Path(ggg.__file__).parent)
-    command = [xvfb_run, "-a", bpy.app.binary_path, "--factory-startup", *extra_flags, "--python-exit-code", "1",
-               "--python", str(HERE / "analysis_session.py"), "--",
-               str(Path(road_grammar.__file__).parent.parent), str(grid_path), str(output), mode]
-    completed = subprocess.run(command, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                               timeout=300)
-    assert output.is_file(), "the windowed Blender wrote nothing:\n" + completed.stdout[-3000:] + \
-        completed.stderr[-3000:]
-    result = json.loads(output.read_text())
-    assert "error" not in result, result.get("error")
-    return result
+    return run_analysis_session(ggg, tmp_path, write_grid(tmp_path / "grid.osm"), mode, *extra_flags)
 
 
 def test_undo_of_analyze_and_find_similar(ggg, tmp_path):

@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import import_roads, snapshot
+from conftest import PanelLayout, activate, import_roads, record_executes, snapshot
 from road_grammar import grammar, grammar_ops, graph_edit, importer, mesh_build, region
 
 # The region, in the graph's frame (metres): east of the sample town, which spans x -747..747.
@@ -21,52 +21,19 @@ RECTANGLE = np.array([[X0, Y0], [X1, Y0], [X1, Y1], [X0, Y1]])
 
 
 @pytest.fixture
-def town(sample_city, ggg):
-    """The imported sample town (active) with its grammar learned (the scene's grammar)."""
-    assert import_roads(sample_city) == {'FINISHED'}
-    obj = bpy.context.active_object
+def town(town):
+    """The imported sample town (conftest's town, active) with its grammar learned (the
+    scene's grammar)."""
     assert bpy.ops.roads.learn() == {'FINISHED'}
     assert bpy.context.scene.road_grammar.text is not None
-    activate(obj)
-    return obj
-
-
-@pytest.fixture
-def reports(capsys):
-    """The (type, message) reports printed so far (background Blender prints them)."""
-    kinds = {"Info": 'INFO', "Warning": 'WARNING', "Error": 'ERROR'}
-    seen = []
-
-    def read():
-        for line in capsys.readouterr().out.splitlines():
-            kind, _, message = line.partition(": ")
-            if kind in kinds:
-                seen.append((kinds[kind], message))
-        return seen
-
-    return read
+    activate(town)
+    return town
 
 
 @pytest.fixture
 def op_results(monkeypatch):
     """What roads.grow_region's execute() returned (bpy.ops raises on ERROR reports)."""
-    results = []
-    original = grammar_ops.ROADS_OT_grow_region.execute
-
-    def recording_execute(self, context):
-        result = original(self, context)
-        results.append(result)
-        return result
-
-    monkeypatch.setattr(grammar_ops.ROADS_OT_grow_region, "execute", recording_execute)
-    return results
-
-
-def activate(obj, *others):
-    """``obj`` active and selected, with ``others``; nothing else selected."""
-    for o in bpy.context.view_layer.objects:
-        o.select_set(o == obj or o in others)
-    bpy.context.view_layer.objects.active = obj
+    return record_executes(monkeypatch, grammar_ops.ROADS_OT_grow_region)
 
 
 def link(obj):
@@ -507,32 +474,6 @@ def test_vertex_budget(town, ggg, reports, op_results):
 
 # --- the panel, the region helpers, ggg.compare ---------------------------------------------------
 
-class _Layout:
-    """Stands in for a UILayout: records labels and operator buttons, accepts everything else."""
-
-    def __init__(self, labels, buttons):
-        self._labels, self._buttons = labels, buttons
-
-    def label(self, text="", **_kwargs):
-        self._labels.append(text)
-
-    def operator(self, idname, **_kwargs):
-        properties = {}
-        self._buttons.append((idname, properties))
-        return _Button(properties)
-
-    def __getattr__(self, name):
-        return lambda *args, **kwargs: _Layout(self._labels, self._buttons)
-
-
-class _Button:
-    def __init__(self, properties):
-        object.__setattr__(self, "_properties", properties)
-
-    def __setattr__(self, name, value):
-        self._properties[name] = value
-
-
 def test_the_panel_button_takes_the_settings(town, ggg):
     from types import SimpleNamespace
 
@@ -543,7 +484,7 @@ def test_the_panel_button_takes_the_settings(town, ggg):
     settings.region, settings.region_seed, settings.region_max_placements = region_obj, 7, 40
     settings.region_patience, settings.region_max_vertices, settings.region_use_placed = 60, 5000, False
     labels, buttons = [], []
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=_Layout(labels, buttons)), bpy.context)
+    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Grow into Region" in labels
     grow = next(properties for idname, properties in buttons if idname == "roads.grow_region")
     assert grow == {"region": "Region", "seed": 7, "max_placements": 40, "patience": 60, "max_vertices": 5000,
@@ -554,7 +495,7 @@ def test_the_panel_button_takes_the_settings(town, ggg):
     assert not region.is_candidate(importer.surface_object(town))
     settings.region = None
     labels.clear()
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=_Layout(labels, buttons)), bpy.context)
+    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Or select a curve or mesh with the graph" in labels
 
 

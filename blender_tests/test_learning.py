@@ -5,63 +5,22 @@ panels; in a windowed Blender under Xvfb, the modal Learn (with its undo, and ca
 with Esc). Undo of Learn run from a script is in test_undo.py."""
 
 import json
-import os
-import shutil
-import subprocess
-from pathlib import Path
 from types import SimpleNamespace
 
 import bpy
 import numpy as np
 import pytest
 
-from conftest import import_roads, snapshot
-from road_grammar import (analysis, grammar, jobs, learning, learning_ops, learning_panels, mesh_build,
-                          pattern_display, rule_display)
-
-HERE = Path(__file__).resolve().parent
-
-
-@pytest.fixture
-def town(sample_city, ggg):
-    """The imported sample town's graph object (active, Object Mode)."""
-    assert import_roads(sample_city) == {'FINISHED'}
-    obj = bpy.context.active_object
-    assert obj.get("road_graph") and len(obj.data.edges) > 100
-    return obj
-
-
-@pytest.fixture
-def reports(capsys):
-    """The (type, message) reports printed so far (background Blender prints them)."""
-    kinds = {"Info": 'INFO', "Warning": 'WARNING', "Error": 'ERROR'}
-    seen = []
-
-    def read():
-        for line in capsys.readouterr().out.splitlines():
-            kind, _, message = line.partition(": ")
-            if kind in kinds:
-                seen.append((kinds[kind], message))
-        return seen
-
-    return read
+from conftest import (PanelLayout, cancel_at_first_progress, draw_panel, record_executes, run_analysis_session,
+                      snapshot)
+from road_grammar import (analysis, grammar, learning, learning_ops, learning_panels, mesh_build, pattern_display,
+                          rule_display)
 
 
 @pytest.fixture
 def op_results(monkeypatch):
     """What each learning operator's execute() returned (bpy.ops raises on ERROR reports)."""
-    results = []
-
-    def recorder(original):
-        def recording_execute(self, context):
-            result = original(self, context)
-            results.append(result)
-            return result
-        return recording_execute
-
-    for cls in (learning_ops.ROADS_OT_learn, learning_ops.ROADS_OT_show_level):
-        monkeypatch.setattr(cls, "execute", recorder(cls.execute))
-    return results
+    return record_executes(monkeypatch, learning_ops.ROADS_OT_learn, learning_ops.ROADS_OT_show_level)
 
 
 def text_grammar(ggg, text):
@@ -181,7 +140,7 @@ def test_the_panel_button_takes_the_settings(town, ggg):
     settings = bpy.context.scene.road_learning
     settings.mode, settings.max_order, settings.levels = 'LOSSLESS', 4, 1
     buttons = []
-    layout = _Layout([], buttons)
+    layout = PanelLayout([], buttons)
     learning_panels.VIEW3D_PT_roads_learn.draw(SimpleNamespace(layout=layout), bpy.context)
     learn = next(properties for idname, properties in buttons if idname == "roads.learn")
     assert learn == {name: getattr(settings, name) for name in learning_ops.ROADS_OT_learn._FROM_SETTINGS}
@@ -221,16 +180,7 @@ def test_learned_grammar_works_with_the_grammar_operators(town, ggg, tmp_path):
 
 def test_cancel_through_the_progress_callback_changes_nothing(town, monkeypatch, reports):
     before = snapshot()
-    calls = []
-    original = jobs.NativeJob.__call__
-
-    def cancelling(self, fraction, message):
-        calls.append((fraction, message))
-        original(self, fraction, message)
-        self.cancel()  # as Esc does: the next answer to the library is "stop"
-        return self.keep_going()
-
-    monkeypatch.setattr(learning_ops.LearningJob, "__call__", cancelling)
+    calls = cancel_at_first_progress(monkeypatch, learning_ops.LearningJob)
     assert bpy.ops.roads.learn() == {'CANCELLED'}
     assert len(calls) == 1
     kind, message = reports()[-1]
@@ -494,48 +444,14 @@ def test_slider_is_fast_on_a_larger_graph(ggg):
 
 # --- the panels ---------------------------------------------------------------------------
 
-class _Layout:
-    """Stands in for a UILayout: records labels and the operator buttons (idname and the
-    properties set on them), accepts everything else."""
-
-    def __init__(self, labels, buttons=None):
-        self._labels = labels
-        self._buttons = [] if buttons is None else buttons
-
-    def label(self, text="", **_kwargs):
-        self._labels.append(text)
-
-    def operator(self, idname, **_kwargs):
-        properties = {}
-        self._buttons.append((idname, properties))
-        return _Button(properties)
-
-    def __getattr__(self, name):
-        return lambda *args, **kwargs: _Layout(self._labels, self._buttons)
-
-
-class _Button:
-    def __init__(self, properties):
-        object.__setattr__(self, "_properties", properties)
-
-    def __setattr__(self, name, value):
-        self._properties[name] = value
-
-
-def _draw(panel):
-    labels = []
-    panel.draw(SimpleNamespace(layout=_Layout(labels)), bpy.context)
-    return "\n".join(labels)
-
-
 def test_panels_draw(town, ggg):
-    assert "Learn from sample_city" in _draw(learning_panels.VIEW3D_PT_roads_learn)
-    assert "Nothing learned yet" in _draw(learning_panels.VIEW3D_PT_roads_learned_rules)
+    assert "Learn from sample_city" in draw_panel(learning_panels.VIEW3D_PT_roads_learn)
+    assert "Nothing learned yet" in draw_panel(learning_panels.VIEW3D_PT_roads_learned_rules)
     assert bpy.ops.roads.learn(mode='LOSSLESS') == {'FINISHED'}
     result = town.road_learning
     stats = json.loads(result.stats)
     result.active_rule = 0
-    text = _draw(learning_panels.VIEW3D_PT_roads_learned_rules)
+    text = draw_panel(learning_panels.VIEW3D_PT_roads_learned_rules)
     assert "{}, {}".format(learning.plural(stats["rules"], "rule"), learning.plural(stats["levels"], "level")) in text
     assert "Round trip: same edges" in text and "sample_city.grammar.json" in text
     assert "of {}".format(stats["levels"]) in text and "Not the scene's grammar" not in text
@@ -543,38 +459,16 @@ def test_panels_draw(town, ggg):
     assert "{} (symbol {}), level {}".format(item.name, item.symbol, item.level) in text
     labels = []
     ui_list = SimpleNamespace(layout_type='DEFAULT')
-    learning_panels.ROADS_UL_learned_rules.draw_item(ui_list, bpy.context, _Layout(labels), None, item, 0, None, "")
+    learning_panels.ROADS_UL_learned_rules.draw_item(ui_list, bpy.context, PanelLayout(labels), None, item, 0, None, "")
     assert labels == [item.name, str(item.level), str(item.uses), str(item.vertex_count)]
     bpy.context.scene.road_grammar.text = None
-    assert "Not the scene's grammar" in _draw(learning_panels.VIEW3D_PT_roads_learned_rules)
+    assert "Not the scene's grammar" in draw_panel(learning_panels.VIEW3D_PT_roads_learned_rules)
 
 
 # --- the modal run, in a Blender with a window ---------------------------------------------
 
-def _session(ggg, tmp_path, input_path, mode, *extra_flags):
-    xvfb_run = shutil.which("xvfb-run")
-    if xvfb_run is None:
-        pytest.skip("xvfb-run is not installed (apt-get install xvfb xauth): undo and modal operators need a "
-                    "Blender window, and `blender -b` has no undo stack")
-    import road_grammar
-
-    output = tmp_path / "session.json"
-    env = dict(os.environ)
-    env["GGG_MODULE_DIR"] = str(Path(ggg.__file__).parent)
-    command = [xvfb_run, "-a", bpy.app.binary_path, "--factory-startup", *extra_flags, "--python-exit-code", "1",
-               "--python", str(HERE / "analysis_session.py"), "--",
-               str(Path(road_grammar.__file__).parent.parent), str(input_path), str(output), mode]
-    completed = subprocess.run(command, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                               timeout=300)
-    assert output.is_file(), "the windowed Blender wrote nothing:\n" + completed.stdout[-3000:] + \
-        completed.stderr[-3000:]
-    result = json.loads(output.read_text())
-    assert "error" not in result, result.get("error")
-    return result
-
-
 def test_modal_learn_takes_the_panel_settings_and_undoes(sample_city, ggg, tmp_path):
-    result = _session(ggg, tmp_path, sample_city, "learn")
+    result = run_analysis_session(ggg, tmp_path, sample_city, "learn")
     assert result["learn"] == ['RUNNING_MODAL'] and result["was_running"] and result["finished"]
     before, learned = result["before"], result["learned"]
     assert before["texts"] == [] and before["scene grammar"] is None and before["rules"] == 0
@@ -587,7 +481,7 @@ def test_modal_learn_takes_the_panel_settings_and_undoes(sample_city, ggg, tmp_p
 
 
 def test_modal_learn_cancelled_with_escape(sample_city, ggg, tmp_path):
-    result = _session(ggg, tmp_path, sample_city, "learn_escape", "--enable-event-simulate")
+    result = run_analysis_session(ggg, tmp_path, sample_city, "learn_escape", "--enable-event-simulate")
     assert result["learn"] == ['RUNNING_MODAL']
     assert result["was_running"] and result["progress_calls"] >= 1
     assert not result["still_running"]

@@ -13,59 +13,18 @@ import numpy as np
 import pytest
 from mathutils import Vector
 
-from conftest import import_roads, snapshot
-from test_analysis import SIZE, SPACING, grid_cells, select_only, write_grid
+from conftest import SIZE, SPACING, activate, draw_panel, record_executes, snapshot, write_grid
+from test_analysis import grid_cells, select_only
 from road_grammar import analysis, graph_edit, importer, mesh_build, pattern_display, replacement, replacement_ops
 
 RING = 8  # vertices of the ring piece
 
 
 @pytest.fixture
-def grid(tmp_path, ggg):
-    """The imported 5 x 5 street grid of test_analysis (active, Object Mode)."""
-    assert import_roads(write_grid(tmp_path / "grid.osm"), highways='ALL') == {'FINISHED'}
-    obj = bpy.context.active_object
-    assert len(obj.data.vertices) == SIZE * SIZE + 2
-    return obj
-
-
-@pytest.fixture
-def reports(capsys):
-    """The (type, message) reports printed so far (background Blender prints them)."""
-    kinds = {"Info": 'INFO', "Warning": 'WARNING', "Error": 'ERROR'}
-    seen = []
-
-    def read():
-        for line in capsys.readouterr().out.splitlines():
-            kind, _, message = line.partition(": ")
-            if kind in kinds:
-                seen.append((kinds[kind], message))
-        return seen
-
-    return read
-
-
-@pytest.fixture
 def op_results(monkeypatch):
     """What the two operators' execute() returned (bpy.ops raises on ERROR reports)."""
-    results = []
-
-    def recorder(original):
-        def recording_execute(self, context):
-            result = original(self, context)
-            results.append(result)
-            return result
-        return recording_execute
-
-    for cls in (replacement_ops.ROADS_OT_store_replacement, replacement_ops.ROADS_OT_replace_isogroup):
-        monkeypatch.setattr(cls, "execute", recorder(cls.execute))
-    return results
-
-
-def activate(obj):
-    for o in bpy.context.view_layer.objects:
-        o.select_set(o == obj)
-    bpy.context.view_layer.objects.active = obj
+    return record_executes(monkeypatch, replacement_ops.ROADS_OT_store_replacement,
+                           replacement_ops.ROADS_OT_replace_isogroup)
 
 
 def ring_object(name="Piece", radius=10.0, location=(3000.0, 0.0, 0.0), count=RING, centre=False):
@@ -596,28 +555,24 @@ def test_replace_needs_a_road_graph(grid, op_results):
 # --- the panel ---------------------------------------------------------------------------------------
 
 def test_panel_draws(grid):
-    from test_analysis import _draw
-
     from road_grammar import analysis_panels
 
-    text = _draw(analysis_panels.VIEW3D_PT_roads_replace)
+    text = draw_panel(analysis_panels.VIEW3D_PT_roads_replace)
     assert "No piece stored" in text and "Analyze first" in text
     index = analysed(grid)
     assert bpy.ops.roads.store_replacement(object=ring_object(radius=25.0).name) == {'FINISHED'}
-    text = _draw(analysis_panels.VIEW3D_PT_roads_replace)
+    text = draw_panel(analysis_panels.VIEW3D_PT_roads_replace)
     assert "8 vertices, 8 streets" in text and "46.2 x 46.2 m as drawn" in text and "from Piece" in text
     assert "Isogroup {}: 4 vertices".format(index + 1) in text and "4 non-overlapping occurrences" in text
     grid.road_analysis.active_index = -1
-    assert "Choose an isogroup in the list" in _draw(analysis_panels.VIEW3D_PT_roads_replace)
+    assert "Choose an isogroup in the list" in draw_panel(analysis_panels.VIEW3D_PT_roads_replace)
 
 
 # --- the sample town -----------------------------------------------------------------------------------
 
-def test_sample_town_blocks_become_plazas(sample_city, ggg, reports):
+def test_sample_town_blocks_become_plazas(town, ggg, reports):
     """The best isogroup of the sample town (default Analyze) replaced by a round plaza of 13
     vertices and 16 streets, as ggg.replace_isogroup replaces it."""
-    assert import_roads(sample_city) == {'FINISHED'}
-    town = bpy.context.active_object
     assert bpy.ops.roads.analyze() == {'FINISHED'}
     town.road_analysis.active_index = 0
     item = town.road_analysis.isogroups[0]

@@ -59,6 +59,31 @@ def graph_or_report(op, context):
     return obj
 
 
+def draw_settings(op, names):
+    """The redo panel of Analyze or Learn ``op``: the grid on one row, then the properties
+    ``names``."""
+    layout = op.layout
+    layout.use_property_split = True
+    layout.use_property_decorate = False
+    row = layout.row(align=True)
+    row.prop(op, "angle_cells", text="Grid")
+    row.prop(op, "distance_cells", text="")
+    for name in names:
+        layout.prop(op, name)
+
+
+def constraint_parameters(op):
+    """The constraints of Analyze or Learn ``op`` that are set, as parts of its parameters text."""
+    parts = []
+    if op.min_aspect > 0:
+        parts.append("min aspect {:g}".format(op.min_aspect))
+    if op.min_leaves > 0:
+        parts.append("min leaves {}".format(op.min_leaves))
+    if op.min_irregularity > 0:
+        parts.append("min irregularity {:g}\u00b0".format(op.min_irregularity))
+    return parts
+
+
 # --- Find Similar ---------------------------------------------------------------------
 
 class ROADS_OT_find_similar(Operator):
@@ -154,24 +179,14 @@ class ROADS_OT_analyze(jobs.ModalJobOperator, Operator):
     _doing = "Analysing"
     _noun = "the analysis"
     _progress_label = "Analysing roads"
-
-    _topology = None
-
-    @classmethod
-    def poll(cls, context):
-        obj = importer.road_graph_object(context.active_object)
-        return obj is None or obj.name not in running
+    _subject = "The analysis of {}"
+    _cannot = "Cannot analyse {}"
+    _result_noun = "the analysis"
+    _changed = "{} changed during the analysis; analyse it again"
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        row = layout.row(align=True)
-        row.prop(self, "angle_cells", text="Grid")
-        row.prop(self, "distance_cells", text="")
-        for name in ("cut", "full", "max_order", "min_count", "scale", "use_seed", "tolerance", "min_aspect",
-                     "min_leaves", "min_irregularity", "max_stored", "overview_count"):
-            layout.prop(self, name)
+        draw_settings(self, ("cut", "full", "max_order", "min_count", "scale", "use_seed", "tolerance", "min_aspect",
+                             "min_leaves", "min_irregularity", "max_stored", "overview_count"))
 
     def _settings(self, context):
         return context.scene.road_analysis
@@ -219,29 +234,9 @@ class ROADS_OT_analyze(jobs.ModalJobOperator, Operator):
         self._job.start()
         return True
 
-    def _finish(self, context):
+    def _keep(self, context, obj, topology):
         """Store and show the result of the finished job (main thread)."""
-        ggg, job = self._ggg, self._job
-        job.join()
-        name = self._object_name
-        if isinstance(job.error, ggg.Cancelled):
-            self.report({'WARNING'}, "The analysis of {} was cancelled; nothing changed".format(name))
-            return {'CANCELLED'}
-        if job.error is not None:
-            if isinstance(job.error, ggg.Error):
-                self.report({'ERROR'}, "Cannot analyse {}: {}".format(name, job.error))
-            else:
-                self.report({'ERROR'}, "The analysis of {} failed: {}: {}".format(
-                    name, type(job.error).__name__, job.error))
-            return {'CANCELLED'}
-        obj = bpy.data.objects.get(name)
-        if obj is None or obj.type != 'MESH':
-            self.report({'ERROR'}, "The road graph {} is gone; the analysis is not kept".format(name))
-            return {'CANCELLED'}
-        topology = analysis.MeshTopology(obj)
-        if topology.checksum != self._topology.checksum:
-            self.report({'ERROR'}, "{} changed during the analysis; analyse it again".format(name))
-            return {'CANCELLED'}
+        job, name = self._job, self._object_name
         result = job.result
         groups = result.isogroups  # a new list on every access: read once
         try:
@@ -274,13 +269,7 @@ class ROADS_OT_analyze(jobs.ModalJobOperator, Operator):
         if "seed" in self._options:
             parts.append("seed of {}, tolerance {:g}".format(_plural(len(self._options["seed"]), "vertex"),
                                                              self.tolerance))
-        if self.min_aspect > 0:
-            parts.append("min aspect {:g}".format(self.min_aspect))
-        if self.min_leaves > 0:
-            parts.append("min leaves {}".format(self.min_leaves))
-        if self.min_irregularity > 0:
-            parts.append("min irregularity {:g}\u00b0".format(self.min_irregularity))
-        return ", ".join(parts)
+        return ", ".join(parts + constraint_parameters(self))
 
     def _summary(self, obj, result, groups, kept, shown, seconds):
         if not groups:
@@ -308,6 +297,18 @@ def _analysed_or_report(op, context):
     return obj
 
 
+def isogroup_index_or_report(op, obj):
+    """The place in the list of the analysis of ``obj`` of the isogroup ``op.index`` (-1:
+    the active one), or None after an ERROR report."""
+    isogroups = obj.road_analysis.isogroups
+    index = obj.road_analysis.active_index if op.index < 0 else op.index
+    if not 0 <= index < len(isogroups):
+        op.report({'ERROR'}, "Choose an isogroup in the list first" if op.index < 0 else
+                  "{} has {}: there is no isogroup {}".format(obj.name, _plural(len(isogroups), "isogroup"), index))
+        return None
+    return index
+
+
 class ROADS_OT_select_isogroup(Operator):
     """Select the vertices of every occurrence of an isogroup of the last analysis and colour them"""
 
@@ -326,11 +327,8 @@ class ROADS_OT_select_isogroup(Operator):
         if obj is None:
             return {'CANCELLED'}
         result = obj.road_analysis
-        index = result.active_index if self.index < 0 else self.index
-        if not 0 <= index < len(result.isogroups):
-            self.report({'ERROR'}, "Choose an isogroup in the list first" if self.index < 0 else
-                        "{} has {}: there is no isogroup {}".format(obj.name, _plural(len(result.isogroups),
-                                                                                     "isogroup"), index))
+        index = isogroup_index_or_report(self, obj)
+        if index is None:
             return {'CANCELLED'}
         try:
             shown, selected = analysis.show_isogroup(obj, index, select=True,

@@ -4,7 +4,7 @@ chosen isogroup's occurrences replaced by a stored piece)."""
 
 from bpy.types import Panel, UIList
 
-from . import analysis, analysis_ops, importer
+from . import analysis, importer
 from .analysis_ops import (ROADS_OT_analyze, ROADS_OT_clear_patterns, ROADS_OT_find_similar,
                            ROADS_OT_select_isogroup, ROADS_OT_show_patterns)
 from .replacement_ops import ROADS_OT_replace_isogroup, ROADS_OT_store_replacement
@@ -29,16 +29,26 @@ def _compact(number):
     return "{:.1f}M".format(number / 1e6)
 
 
-def _columns(layout):
-    """Sub-layouts for the list's columns (nested splits, as UILayout.split takes one factor)."""
+def _columns(layout, columns):
+    """Sub-layouts for a list's ``columns`` ((header, width) pairs; nested splits, as
+    UILayout.split takes one factor)."""
     cells = []
     rest = layout
-    for _name, factor in _COLUMNS[:-1]:
+    for _name, factor in columns[:-1]:
         split = rest.split(factor=factor, align=True)
         cells.append(split.row(align=True))
         rest = split
     cells.append(rest.row(align=True))
     return cells
+
+
+def _swatch_cells(layout, item, columns):
+    """A row of a list: the colour swatch of ``item``, then a cell per column."""
+    row = layout.row(align=True)
+    swatch = row.row(align=True)
+    swatch.ui_units_x = 0.8
+    swatch.prop(item, "color", text="")
+    return _columns(row, columns)
 
 
 class ROADS_UL_isogroups(UIList):
@@ -50,24 +60,47 @@ class ROADS_UL_isogroups(UIList):
             layout.alignment = 'CENTER'
             layout.label(text=str(item.rank))
             return
-        row = layout.row(align=True)
-        swatch = row.row(align=True)
-        swatch.ui_units_x = 0.8
-        swatch.prop(item, "color", text="")
-        order, count, non_overlapping, gain = _columns(row)
+        order, count, non_overlapping, gain = _swatch_cells(layout, item, _COLUMNS)
         order.label(text=str(item.order))
         count.label(text=_compact(item.frequency))
         non_overlapping.label(text=_compact(item.non_overlapping_count))
         gain.label(text=_compact(item.gain))
 
 
-def _header(layout):
+def _header(layout, columns):
+    """The headers of a list's ``columns``, after the space of the colour swatch."""
     row = layout.row(align=True)
     spacer = row.row(align=True)
     spacer.ui_units_x = 0.8
     spacer.label(text="")
-    for cell, (name, _factor) in zip(_columns(row), _COLUMNS):
+    for cell, (name, _factor) in zip(_columns(row, columns), columns):
         cell.label(text=name)
+
+
+def _constraints(col, settings):
+    """The constraints of Analyze or Learn (``settings``), under a toggle."""
+    col.prop(settings, "show_constraints", icon='TRIA_DOWN' if settings.show_constraints else 'TRIA_RIGHT',
+             emboss=False)
+    if settings.show_constraints:
+        col.prop(settings, "min_aspect")
+        col.prop(settings, "min_leaves")
+        col.prop(settings, "min_irregularity")
+
+
+def _run_button(box, graph, settings, operator):
+    """The progress of the job of the modal ``operator`` (a jobs.ModalJobOperator) running on
+    ``graph``, else its button with the panel's ``settings``."""
+    job = operator._running.get(graph.name) if graph is not None else None
+    if job is not None:
+        col = box.column(align=True)
+        col.label(text="{} ({:.0f}%)".format(job.message, 100.0 * job.fraction), icon='SORTTIME')
+        col.label(text="Cancelling\u2026" if job.cancelled else "Esc cancels")
+    else:
+        row = box.row()
+        row.enabled = graph is not None
+        op = row.operator(operator.bl_idname, icon='PLAY')
+        for name in operator._FROM_SETTINGS:
+            setattr(op, name, getattr(settings, name))
 
 
 class VIEW3D_PT_roads_patterns(_RoadsTab, Panel):
@@ -109,24 +142,8 @@ class VIEW3D_PT_roads_patterns(_RoadsTab, Panel):
         col.prop(settings, "use_seed")
         col.prop(settings, "max_stored")
         col.prop(settings, "overview_count")
-        col.prop(settings, "show_constraints", icon='TRIA_DOWN' if settings.show_constraints else 'TRIA_RIGHT',
-                 emboss=False)
-        if settings.show_constraints:
-            col.prop(settings, "min_aspect")
-            col.prop(settings, "min_leaves")
-            col.prop(settings, "min_irregularity")
-
-        job = analysis_ops.running.get(graph.name) if graph is not None else None
-        if job is not None:
-            col = box.column(align=True)
-            col.label(text="{} ({:.0f}%)".format(job.message, 100.0 * job.fraction), icon='SORTTIME')
-            col.label(text="Cancelling\u2026" if job.cancelled else "Esc cancels")
-        else:
-            row = box.row()
-            row.enabled = graph is not None
-            op = row.operator(ROADS_OT_analyze.bl_idname, icon='PLAY')
-            for name in ROADS_OT_analyze._FROM_SETTINGS:
-                setattr(op, name, getattr(settings, name))
+        _constraints(col, settings)
+        _run_button(box, graph, settings, ROADS_OT_analyze)
 
 
 class VIEW3D_PT_roads_isogroups(_RoadsTab, Panel):
@@ -161,7 +178,7 @@ class VIEW3D_PT_roads_isogroups(_RoadsTab, Panel):
             box.label(text="Out of date", icon='ERROR')
             _wrapped_labels(box, stale, width=28)
 
-        _header(layout)
+        _header(layout, _COLUMNS)
         layout.template_list("ROADS_UL_isogroups", "", result, "isogroups", result, "active_index", rows=8)
 
         index = result.active_index

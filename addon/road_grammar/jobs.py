@@ -6,8 +6,8 @@ callback (``NativeJob.__call__``) only records the fraction and message and retu
 once the user cancelled. From the UI the operator is modal (a timer shows the progress in
 the status bar; Esc or a right click cancels; the viewport can still be navigated); from
 scripts and in background mode it waits for the thread, with the window manager's
-progress. Nothing in the scene changes before the call has finished (the operator's
-``_finish``), so a failed or cancelled run leaves it as it was.
+progress. Nothing in the scene changes before the call has finished (``_finish``, then the
+operator's ``_keep``), so a failed or cancelled run leaves it as it was.
 """
 
 import threading
@@ -15,7 +15,7 @@ import time
 
 import bpy
 
-from . import importer
+from . import analysis, importer
 
 # Events a running modal job lets through to the viewport: navigation only.
 NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'WHEELINMOUSE', 'WHEELOUTMOUSE', 'TRACKPADPAN',
@@ -100,21 +100,37 @@ def stop_all(running):
         job.join()
 
 
+def _status_text(context, text):
+    """Show ``text`` in the status bar (None: Blender's own again) and redraw the 3D views."""
+    if context.workspace is not None:
+        context.workspace.status_text_set(text)
+    for area in context.screen.areas if context.screen is not None else ():
+        if area.type == 'VIEW_3D':
+            area.tag_redraw()
+
+
 class ModalJobOperator:
     """The running of a NativeJob for an operator (a mixin before bpy.types.Operator).
 
     The operator provides:
 
-    * ``_running``: the dict object name -> job of its kind (for the panel, and so that one
-      object is not worked on twice at once);
+    * ``_running``: the dict object name -> job of its kind (for the panel, and for poll:
+      one object is not worked on twice at once);
     * ``_settings(context)``: the property group whose values ``_FROM_SETTINGS`` are taken
       when invoked (for those not set by the caller);
-    * ``_start(context)``: read the graph (main thread), set ``_object_name`` and start
-      ``_job``; False after an ERROR report;
-    * ``_finish(context)``: store the finished job's result (main thread), report, and
-      return the operator's result;
+    * ``_start(context)``: read the graph (main thread), set ``_ggg``, ``_object_name``,
+      ``_topology`` (the analysis.MeshTopology read) and start ``_job``; False after an
+      ERROR report;
+    * ``_keep(context, obj, topology)``: store the result of the finished job on the road
+      graph ``obj`` (main thread; ``_finish`` has checked that the job succeeded and that
+      ``obj``, read again as ``topology``, has not changed), report, and return the
+      operator's result;
     * ``_doing`` ("Analysing"), ``_noun`` ("the analysis"), ``_progress_label``
-      ("Analysing roads"): for the status bar, the console and the messages.
+      ("Analysing roads"): for the status bar, the console and the messages;
+    * the words of ``_finish``'s messages, "{}" standing for the object's name:
+      ``_subject`` ("The analysis of {}" was cancelled, failed), ``_cannot`` ("Cannot
+      analyse {}": the library's error), ``_result_noun`` ("the analysis" is not kept) and
+      ``_changed`` ("{} changed during the analysis; analyse it again").
     """
 
     _running = {}
@@ -122,12 +138,23 @@ class ModalJobOperator:
     _doing = "Working on"
     _noun = "the job"
     _progress_label = "Working"
+    _subject = "The job on {}"
+    _cannot = "Cannot work on {}"
+    _result_noun = "the result"
+    _changed = "{} changed during the job; run it again"
 
     # Set up by _start; an operator instance runs one job.
+    _ggg = None
     _job = None
     _timer = None
     _object_name = ""
+    _topology = None
     _progress_shown = False
+
+    @classmethod
+    def poll(cls, context):
+        obj = importer.road_graph_object(context.active_object)
+        return obj is None or obj.name not in cls._running
 
     def _settings(self, context):
         raise NotImplementedError
@@ -202,11 +229,7 @@ class ModalJobOperator:
                                                                   100.0 * job.fraction)
         if job.cancelled:
             text = "Cancelling {} of {}\u2026".format(self._noun, self._object_name)
-        if context.workspace is not None:
-            context.workspace.status_text_set(text)
-        for area in context.screen.areas if context.screen is not None else ():
-            if area.type == 'VIEW_3D':
-                area.tag_redraw()
+        _status_text(context, text)
 
     def _cleanup(self, context):
         self._running.pop(self._object_name, None)
@@ -217,13 +240,36 @@ class ModalJobOperator:
         if self._progress_shown:
             wm.progress_end()
             self._progress_shown = False
-        if context.workspace is not None:
-            context.workspace.status_text_set(None)
-        for area in context.screen.areas if context.screen is not None else ():
-            if area.type == 'VIEW_3D':
-                area.tag_redraw()
+        _status_text(context, None)
 
     def _end_modal(self, context):
         self._job.join()
         self._cleanup(context)
         return self._finish(context)
+
+    def _finish(self, context):
+        """Check the finished job (main thread) and hand its result to ``_keep``: a job
+        cancelled, failed, or whose road graph is gone or changed meanwhile is reported and
+        changes nothing ({'CANCELLED'})."""
+        ggg, job = self._ggg, self._job
+        job.join()
+        name = self._object_name
+        if isinstance(job.error, ggg.Cancelled):
+            self.report({'WARNING'}, "{} was cancelled; nothing changed".format(self._subject.format(name)))
+            return {'CANCELLED'}
+        if job.error is not None:
+            if isinstance(job.error, ggg.Error):
+                self.report({'ERROR'}, "{}: {}".format(self._cannot.format(name), job.error))
+            else:
+                self.report({'ERROR'}, "{} failed: {}: {}".format(
+                    self._subject.format(name), type(job.error).__name__, job.error))
+            return {'CANCELLED'}
+        obj = bpy.data.objects.get(name)
+        if obj is None or obj.type != 'MESH':
+            self.report({'ERROR'}, "The road graph {} is gone; {} is not kept".format(name, self._result_noun))
+            return {'CANCELLED'}
+        topology = analysis.MeshTopology(obj)
+        if topology.checksum != self._topology.checksum:
+            self.report({'ERROR'}, self._changed.format(name))
+            return {'CANCELLED'}
+        return self._keep(context, obj, topology)

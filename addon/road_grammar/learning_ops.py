@@ -13,7 +13,7 @@ import bpy
 from bpy.props import IntProperty
 from bpy.types import Operator
 
-from . import analysis, analysis_ops, importer, jobs, learning, native, pattern_display, rule_display
+from . import analysis, analysis_ops, jobs, learning, native, pattern_display, rule_display
 from .learning import plural
 
 # Learning runs in the UI: object name -> LearningJob (for the panel, and so that one
@@ -64,23 +64,14 @@ class ROADS_OT_learn(jobs.ModalJobOperator, Operator):
     _doing = "Learning from"
     _noun = "the learning"
     _progress_label = "Learning a grammar"
-
-    _topology = None
-
-    @classmethod
-    def poll(cls, context):
-        obj = importer.road_graph_object(context.active_object)
-        return obj is None or obj.name not in running
+    _subject = "Learning from {}"
+    _cannot = "Cannot learn from {}"
+    _result_noun = "the grammar"
+    _changed = "{} changed while it was learned from; learn again"
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        row = layout.row(align=True)
-        row.prop(self, "angle_cells", text="Grid")
-        row.prop(self, "distance_cells", text="")
-        for name in ("cut", "max_order", "levels", "mode", "min_aspect", "min_leaves", "min_irregularity"):
-            layout.prop(self, name)
+        analysis_ops.draw_settings(self, ("cut", "max_order", "levels", "mode", "min_aspect", "min_leaves",
+                                          "min_irregularity"))
 
     def _settings(self, context):
         return context.scene.road_learning
@@ -121,29 +112,9 @@ class ROADS_OT_learn(jobs.ModalJobOperator, Operator):
             "min_aspect": self.min_aspect, "min_leaves": self.min_leaves, "min_irregularity": self.min_irregularity,
         }
 
-    def _finish(self, context):
+    def _keep(self, context, obj, topology):
         """Keep and show the grammar of the finished job (main thread)."""
-        ggg, job = self._ggg, self._job
-        job.join()
-        name = self._object_name
-        if isinstance(job.error, ggg.Cancelled):
-            self.report({'WARNING'}, "Learning from {} was cancelled; nothing changed".format(name))
-            return {'CANCELLED'}
-        if job.error is not None:
-            if isinstance(job.error, ggg.Error):
-                self.report({'ERROR'}, "Cannot learn from {}: {}".format(name, job.error))
-            else:
-                self.report({'ERROR'}, "Learning from {} failed: {}: {}".format(
-                    name, type(job.error).__name__, job.error))
-            return {'CANCELLED'}
-        obj = bpy.data.objects.get(name)
-        if obj is None or obj.type != 'MESH':
-            self.report({'ERROR'}, "The road graph {} is gone; the grammar is not kept".format(name))
-            return {'CANCELLED'}
-        topology = analysis.MeshTopology(obj)
-        if topology.checksum != self._topology.checksum:
-            self.report({'ERROR'}, "{} changed while it was learned from; learn again".format(name))
-            return {'CANCELLED'}
+        ggg, job, name = self._ggg, self._job, self._object_name
         learned, stats = job.result
         try:
             content = learned.to_json()
@@ -174,13 +145,7 @@ class ROADS_OT_learn(jobs.ModalJobOperator, Operator):
                  "max order {}".format(self.max_order),
                  plural(self.levels, "level") if self.levels else "all levels",
                  "lossless" if self.mode == 'LOSSLESS' else "paper"]
-        if self.min_aspect > 0:
-            parts.append("min aspect {:g}".format(self.min_aspect))
-        if self.min_leaves > 0:
-            parts.append("min leaves {}".format(self.min_leaves))
-        if self.min_irregularity > 0:
-            parts.append("min irregularity {:g}\u00b0".format(self.min_irregularity))
-        return ", ".join(parts)
+        return ", ".join(parts + analysis_ops.constraint_parameters(self))
 
 
 def _learned_or_report(op, context):

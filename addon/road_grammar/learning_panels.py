@@ -4,8 +4,8 @@ from the active road graph: its numbers, the level shown (a slider) and its rule
 
 from bpy.types import Panel, UIList
 
-from . import analysis, grammar, importer, learning, learning_ops
-from .analysis_panels import _compact
+from . import analysis, grammar, importer, learning
+from .analysis_panels import _compact, _constraints, _header, _run_button, _swatch_cells
 from .grammar_ops import ROADS_OT_place_rule, ROADS_OT_save_grammar
 from .learning_ops import ROADS_OT_learn, ROADS_OT_show_level
 from .panels import _RoadsTab, _wrapped_labels
@@ -16,18 +16,6 @@ from .panels import _RoadsTab, _wrapped_labels
 _COLUMNS = (("Rule", 0.34), ("Level", 0.33), ("Uses", 0.5), ("Verts", 1.0))
 
 
-def _columns(layout):
-    """Sub-layouts for the list's columns (nested splits, as UILayout.split takes one factor)."""
-    cells = []
-    rest = layout
-    for _name, factor in _COLUMNS[:-1]:
-        split = rest.split(factor=factor, align=True)
-        cells.append(split.row(align=True))
-        rest = split
-    cells.append(rest.row(align=True))
-    return cells
-
-
 class ROADS_UL_learned_rules(UIList):
     """Rules of a learned grammar: colour, name, level, uses and vertices."""
 
@@ -36,24 +24,11 @@ class ROADS_UL_learned_rules(UIList):
             layout.alignment = 'CENTER'
             layout.label(text=item.name)
             return
-        row = layout.row(align=True)
-        swatch = row.row(align=True)
-        swatch.ui_units_x = 0.8
-        swatch.prop(item, "color", text="")
-        name, level, uses, vertices = _columns(row)
+        name, level, uses, vertices = _swatch_cells(layout, item, _COLUMNS)
         name.label(text=item.name)
         level.label(text=str(item.level))
         uses.label(text=_compact(item.uses))
         vertices.label(text=str(item.vertex_count))
-
-
-def _header(layout):
-    row = layout.row(align=True)
-    spacer = row.row(align=True)
-    spacer.ui_units_x = 0.8
-    spacer.label(text="")
-    for cell, (name, _factor) in zip(_columns(row), _COLUMNS):
-        cell.label(text=name)
 
 
 class VIEW3D_PT_roads_learn(_RoadsTab, Panel):
@@ -75,25 +50,8 @@ class VIEW3D_PT_roads_learn(_RoadsTab, Panel):
         col.prop(settings, "max_order")
         col.prop(settings, "levels")
         box.row(align=True).prop(settings, "mode", expand=True)
-        col = box.column(align=True)
-        col.prop(settings, "show_constraints", icon='TRIA_DOWN' if settings.show_constraints else 'TRIA_RIGHT',
-                 emboss=False)
-        if settings.show_constraints:
-            col.prop(settings, "min_aspect")
-            col.prop(settings, "min_leaves")
-            col.prop(settings, "min_irregularity")
-
-        job = learning_ops.running.get(graph.name) if graph is not None else None
-        if job is not None:
-            col = box.column(align=True)
-            col.label(text="{} ({:.0f}%)".format(job.message, 100.0 * job.fraction), icon='SORTTIME')
-            col.label(text="Cancelling\u2026" if job.cancelled else "Esc cancels")
-        else:
-            row = box.row()
-            row.enabled = graph is not None
-            op = row.operator(ROADS_OT_learn.bl_idname, icon='PLAY')
-            for name in ROADS_OT_learn._FROM_SETTINGS:
-                setattr(op, name, getattr(settings, name))
+        _constraints(box.column(align=True), settings)
+        _run_button(box, graph, settings, ROADS_OT_learn)
 
 
 class VIEW3D_PT_roads_learned_rules(_RoadsTab, Panel):
@@ -148,7 +106,7 @@ class VIEW3D_PT_roads_learned_rules(_RoadsTab, Panel):
             box.label(text="Cannot show the level", icon='ERROR')
             _wrapped_labels(box, problem, width=28)
 
-        _header(layout)
+        _header(layout, _COLUMNS)
         layout.template_list("ROADS_UL_learned_rules", "", result, "rules", result, "active_rule", rows=6)
 
         index = result.active_rule

@@ -20,6 +20,7 @@ Writing works in Object Mode (bulk foreach_set) and in Edit Mode (through bmesh,
 an edit-mode undo step restores it).
 """
 
+import collections
 import contextlib
 
 import bmesh
@@ -270,13 +271,31 @@ def clear(obj):
         mesh.update()
     child = patterns_object(obj)
     if child is not None:
-        child_mesh = child.data
-        bpy.data.objects.remove(child)
-        if child_mesh is not None and child_mesh.users == 0:
-            bpy.data.meshes.remove(child_mesh)
+        remove_child(child)
 
 
 # --- the object, its node group and the materials -------------------------------------------
+
+def new_child(graph_obj, name, key):
+    """A new mesh object ``name`` marked ``key`` that draws for ``graph_obj``: its child at its
+    origin, in its collections, that cannot be selected in the viewport (clicks select the
+    graph, and no selection outline covers the drawing)."""
+    child = bpy.data.objects.new(name, bpy.data.meshes.new(name))
+    child[key] = 1
+    child.parent = graph_obj
+    child.hide_select = True
+    for collection in graph_obj.users_collection or (bpy.context.scene.collection,):
+        collection.objects.link(child)
+    return child
+
+
+def remove_child(child):
+    """Remove the object ``child`` made by new_child, and its mesh when nothing else uses it."""
+    child_mesh = child.data
+    bpy.data.objects.remove(child)
+    if child_mesh is not None and child_mesh.users == 0:
+        bpy.data.meshes.remove(child_mesh)
+
 
 def patterns_object(graph_obj):
     """The child of ``graph_obj`` that draws its pattern colours, else None."""
@@ -297,14 +316,7 @@ def ensure_object(graph_obj, polylines=None, counts=(0, 0)):
     straight edges."""
     child = patterns_object(graph_obj)
     if child is None:
-        name = graph_obj.name + " Patterns"
-        child = bpy.data.objects.new(name, bpy.data.meshes.new(name))
-        child[OBJECT_KEY] = 1
-        child.parent = graph_obj
-        child.hide_select = True  # clicks select the graph, and no outline covers the colours
-        collections = graph_obj.users_collection or (bpy.context.scene.collection,)
-        for collection in collections:
-            collection.objects.link(child)
+        child = new_child(graph_obj, graph_obj.name + " Patterns", OBJECT_KEY)
     if polylines is None:
         child.data.clear_geometry()
     else:
@@ -369,6 +381,97 @@ def _socket(sockets, name, kind=None):
     """The enabled socket ``name`` (of type ``kind``, e.g. 'INT') among ``sockets``: nodes
     such as Compare have one socket per data type under the same name."""
     return next(s for s in sockets if s.name == name and s.enabled and (kind is None or s.type == kind))
+
+
+Ribbons = collections.namedtuple("Ribbons", "points rotation scale quad")
+
+
+def edge_ribbons(tree, group_in, geometry, x):
+    """Nodes of ``tree`` that make every edge of the mesh ``geometry`` (a socket) a point at
+    its middle (the Mesh to Points node ``points``) with the ``rotation`` and ``scale``
+    (sockets) that turn a unit ``quad`` (a socket) into the edge's ribbon: along the edge (its
+    direction is captured on the edges), (length + width) x width, the width being the
+    edge's ``width`` attribute times Width Scale, at least Min Width (inputs of the group,
+    ``group_in``); the extra length covers the corners. ``x`` shifts the nodes' places."""
+    nodes, links = tree.nodes, tree.links
+    edge_vertices = _node(nodes, 'GeometryNodeInputMeshEdgeVertices', (x - 1200, -500))
+    direction = _node(nodes, 'ShaderNodeVectorMath', (x - 1000, -500), operation='SUBTRACT')
+    links.new(edge_vertices.outputs["Position 2"], direction.inputs[0])
+    links.new(edge_vertices.outputs["Position 1"], direction.inputs[1])
+    capture = _node(nodes, 'GeometryNodeCaptureAttribute', (x - 800, 0), data_type='FLOAT_VECTOR', domain='EDGE')
+    links.new(geometry, capture.inputs["Geometry"])
+    links.new(direction.outputs["Vector"], _socket(capture.inputs, "Value", 'VECTOR'))
+    points = _node(nodes, 'GeometryNodeMeshToPoints', (x - 600, 0), mode='EDGES')
+    links.new(capture.outputs["Geometry"], points.inputs["Mesh"])
+
+    # On the points: angle, length and width of the ribbon.
+    captured = _socket(capture.outputs, "Attribute", 'VECTOR')
+    xyz = _node(nodes, 'ShaderNodeSeparateXYZ', (x - 600, -300))
+    links.new(captured, xyz.inputs[0])
+    angle = _node(nodes, 'ShaderNodeMath', (x - 400, -300), operation='ARCTAN2')
+    links.new(xyz.outputs["Y"], angle.inputs[0])
+    links.new(xyz.outputs["X"], angle.inputs[1])
+    rotation = _node(nodes, 'ShaderNodeCombineXYZ', (x - 200, -300))
+    links.new(angle.outputs[0], rotation.inputs["Z"])
+    length = _node(nodes, 'ShaderNodeVectorMath', (x - 400, -500), operation='LENGTH')
+    links.new(captured, length.inputs[0])
+    width = _node(nodes, 'GeometryNodeInputNamedAttribute', (x - 600, -700), data_type='FLOAT')
+    width.inputs["Name"].default_value = "width"
+    scaled = _node(nodes, 'ShaderNodeMath', (x - 400, -700), operation='MULTIPLY')
+    links.new(_socket(width.outputs, "Attribute"), scaled.inputs[0])
+    links.new(group_in.outputs["Width Scale"], scaled.inputs[1])
+    ribbon_width = _node(nodes, 'ShaderNodeMath', (x - 200, -700), operation='MAXIMUM')
+    links.new(scaled.outputs[0], ribbon_width.inputs[0])
+    links.new(group_in.outputs["Min Width"], ribbon_width.inputs[1])
+    ribbon_length = _node(nodes, 'ShaderNodeMath', (x - 200, -500), operation='ADD')
+    links.new(length.outputs["Value"], ribbon_length.inputs[0])
+    links.new(ribbon_width.outputs[0], ribbon_length.inputs[1])
+    scale = _node(nodes, 'ShaderNodeCombineXYZ', (x, -500))
+    scale.inputs["Z"].default_value = 1.0
+    links.new(ribbon_length.outputs[0], scale.inputs["X"])
+    links.new(ribbon_width.outputs[0], scale.inputs["Y"])
+
+    # The unit quad.
+    quad = _node(nodes, 'GeometryNodeMeshGrid', (x - 600, 400))
+    quad.inputs["Size X"].default_value = 1.0
+    quad.inputs["Size Y"].default_value = 1.0
+    quad.inputs["Vertices X"].default_value = 2
+    quad.inputs["Vertices Y"].default_value = 2
+    return Ribbons(points, rotation.outputs[0], scale.outputs[0], quad.outputs["Mesh"])
+
+
+def raised_instances(tree, group_in, join, points, mesh, mat, lift, scale, rotation, y, slot_field=None, slot=None):
+    """Nodes of ``tree`` that instance ``mesh`` (a socket; material ``mat``, raised by the
+    group's Height + ``lift``) on the ``points`` (a socket) whose INT ``slot_field`` is
+    ``slot`` (every point when ``slot`` is None), scaled by ``scale`` and turned by
+    ``rotation`` (sockets; None: not turned), into the Join Geometry node ``join``; the
+    nodes stand in the row ``y``."""
+    nodes, links = tree.nodes, tree.links
+    height = _node(nodes, 'ShaderNodeMath', (-200, y), operation='ADD')
+    links.new(group_in.outputs["Height"], height.inputs[0])
+    height.inputs[1].default_value = lift
+    offset = _node(nodes, 'ShaderNodeCombineXYZ', (0, y))
+    links.new(height.outputs[0], offset.inputs["Z"])
+    raised = _node(nodes, 'GeometryNodeTransform', (200, y))
+    links.new(mesh, raised.inputs["Geometry"])
+    links.new(offset.outputs[0], raised.inputs["Translation"])
+    set_material = _node(nodes, 'GeometryNodeSetMaterial', (400, y))
+    set_material.inputs["Material"].default_value = mat
+    links.new(raised.outputs["Geometry"], set_material.inputs["Geometry"])
+    is_slot = None
+    if slot is not None:
+        is_slot = _node(nodes, 'FunctionNodeCompare', (400, y - 150), data_type='INT', operation='EQUAL')
+        links.new(slot_field, _socket(is_slot.inputs, "A", 'INT'))
+        _socket(is_slot.inputs, "B", 'INT').default_value = slot
+    instance = _node(nodes, 'GeometryNodeInstanceOnPoints', (700, y))
+    links.new(points, instance.inputs["Points"])
+    if is_slot is not None:
+        links.new(_socket(is_slot.outputs, "Result"), instance.inputs["Selection"])
+    links.new(set_material.outputs["Geometry"], instance.inputs["Instance"])
+    if rotation is not None:
+        links.new(rotation, instance.inputs["Rotation"])
+    links.new(scale, instance.inputs["Scale"])
+    links.new(instance.outputs["Instances"], join.inputs["Geometry"])
 
 
 def node_group():
@@ -438,79 +541,18 @@ def node_group():
     links.new(graph.outputs["Geometry"], _socket(lines.inputs, "False", 'GEOMETRY'))
     links.new(store.outputs["Geometry"], _socket(lines.inputs, "True", 'GEOMETRY'))
 
-    # Coloured edges -> points with the edge's direction (captured on the edges).
+    # Coloured edges -> points carrying their ribbon's rotation and scale.
     coloured = _node(nodes, 'FunctionNodeCompare', (-1000, -300), data_type='INT', operation='GREATER_THAN')
     links.new(_socket(pattern.outputs, "Attribute"), _socket(coloured.inputs, "A", 'INT'))
     _socket(coloured.inputs, "B", 'INT').default_value = 0
-    edge_vertices = _node(nodes, 'GeometryNodeInputMeshEdgeVertices', (-1200, -500))
-    direction = _node(nodes, 'ShaderNodeVectorMath', (-1000, -500), operation='SUBTRACT')
-    links.new(edge_vertices.outputs["Position 2"], direction.inputs[0])
-    links.new(edge_vertices.outputs["Position 1"], direction.inputs[1])
-    capture = _node(nodes, 'GeometryNodeCaptureAttribute', (-800, 0), data_type='FLOAT_VECTOR', domain='EDGE')
-    links.new(_socket(lines.outputs, "Output", 'GEOMETRY'), capture.inputs["Geometry"])
-    links.new(direction.outputs["Vector"], _socket(capture.inputs, "Value", 'VECTOR'))
-    to_points = _node(nodes, 'GeometryNodeMeshToPoints', (-600, 0), mode='EDGES')
-    links.new(capture.outputs["Geometry"], to_points.inputs["Mesh"])
-    links.new(_socket(coloured.outputs, "Result"), to_points.inputs["Selection"])
-
-    # On the points: angle, length and width of the ribbon.
-    captured = _socket(capture.outputs, "Attribute", 'VECTOR')
-    xyz = _node(nodes, 'ShaderNodeSeparateXYZ', (-600, -300))
-    links.new(captured, xyz.inputs[0])
-    angle = _node(nodes, 'ShaderNodeMath', (-400, -300), operation='ARCTAN2')
-    links.new(xyz.outputs["Y"], angle.inputs[0])
-    links.new(xyz.outputs["X"], angle.inputs[1])
-    rotation = _node(nodes, 'ShaderNodeCombineXYZ', (-200, -300))
-    links.new(angle.outputs[0], rotation.inputs["Z"])
-    length = _node(nodes, 'ShaderNodeVectorMath', (-400, -500), operation='LENGTH')
-    links.new(captured, length.inputs[0])
-    width = _node(nodes, 'GeometryNodeInputNamedAttribute', (-600, -700), data_type='FLOAT')
-    width.inputs["Name"].default_value = "width"
-    scaled = _node(nodes, 'ShaderNodeMath', (-400, -700), operation='MULTIPLY')
-    links.new(_socket(width.outputs, "Attribute"), scaled.inputs[0])
-    links.new(group_in.outputs["Width Scale"], scaled.inputs[1])
-    ribbon_width = _node(nodes, 'ShaderNodeMath', (-200, -700), operation='MAXIMUM')
-    links.new(scaled.outputs[0], ribbon_width.inputs[0])
-    links.new(group_in.outputs["Min Width"], ribbon_width.inputs[1])
-    ribbon_length = _node(nodes, 'ShaderNodeMath', (-200, -500), operation='ADD')
-    links.new(length.outputs["Value"], ribbon_length.inputs[0])
-    links.new(ribbon_width.outputs[0], ribbon_length.inputs[1])
-    scale = _node(nodes, 'ShaderNodeCombineXYZ', (0, -500))
-    scale.inputs["Z"].default_value = 1.0
-    links.new(ribbon_length.outputs[0], scale.inputs["X"])
-    links.new(ribbon_width.outputs[0], scale.inputs["Y"])
-
-    # The unit quad.
-    quad = _node(nodes, 'GeometryNodeMeshGrid', (-600, 400))
-    quad.inputs["Size X"].default_value = 1.0
-    quad.inputs["Size Y"].default_value = 1.0
-    quad.inputs["Vertices X"].default_value = 2
-    quad.inputs["Vertices Y"].default_value = 2
+    ribbons = edge_ribbons(tree, group_in, _socket(lines.outputs, "Output", 'GEOMETRY'), 0)
+    links.new(_socket(coloured.outputs, "Result"), ribbons.points.inputs["Selection"])
 
     # One instancing per colour, each with its material and height.
     join = _node(nodes, 'GeometryNodeJoinGeometry', (1100, 0))
     for slot in range(len(SLOT_COLORS), 0, -1):
-        y = 800 - 260 * slot
-        height = _node(nodes, 'ShaderNodeMath', (-200, y), operation='ADD')
-        links.new(group_in.outputs["Height"], height.inputs[0])
-        height.inputs[1].default_value = SLOT_STEP_M * slot
-        lift = _node(nodes, 'ShaderNodeCombineXYZ', (0, y))
-        links.new(height.outputs[0], lift.inputs["Z"])
-        raised = _node(nodes, 'GeometryNodeTransform', (200, y))
-        links.new(quad.outputs["Mesh"], raised.inputs["Geometry"])
-        links.new(lift.outputs[0], raised.inputs["Translation"])
-        set_material = _node(nodes, 'GeometryNodeSetMaterial', (400, y))
-        set_material.inputs["Material"].default_value = material(slot)
-        links.new(raised.outputs["Geometry"], set_material.inputs["Geometry"])
-        is_slot = _node(nodes, 'FunctionNodeCompare', (400, y - 150), data_type='INT', operation='EQUAL')
-        links.new(_socket(pattern.outputs, "Attribute"), _socket(is_slot.inputs, "A", 'INT'))
-        _socket(is_slot.inputs, "B", 'INT').default_value = slot
-        instance = _node(nodes, 'GeometryNodeInstanceOnPoints', (700, y))
-        links.new(to_points.outputs["Points"], instance.inputs["Points"])
-        links.new(_socket(is_slot.outputs, "Result"), instance.inputs["Selection"])
-        links.new(set_material.outputs["Geometry"], instance.inputs["Instance"])
-        links.new(rotation.outputs[0], instance.inputs["Rotation"])
-        links.new(scale.outputs[0], instance.inputs["Scale"])
-        links.new(instance.outputs["Instances"], join.inputs["Geometry"])
+        raised_instances(tree, group_in, join, ribbons.points.outputs["Points"], ribbons.quad, material(slot),
+                         SLOT_STEP_M * slot, ribbons.scale, ribbons.rotation, 800 - 260 * slot,
+                         _socket(pattern.outputs, "Attribute"), slot)
     links.new(join.outputs["Geometry"], group_out.inputs["Geometry"])
     return tree

@@ -20,7 +20,7 @@ from bpy.types import Operator
 import numpy as np
 
 from . import analysis, graph_edit, importer, pattern_display, replacement
-from .analysis_ops import _plural, analyzer_or_report, graph_or_report
+from .analysis_ops import _plural, analyzer_or_report, graph_or_report, isogroup_index_or_report
 from .grammar_ops import _class_widths
 
 
@@ -92,11 +92,8 @@ class ROADS_OT_replace_isogroup(Operator):
             self.report({'ERROR'}, "{} has not been analysed: run Analyze, then choose an isogroup in the list"
                         .format(obj.name))
             return {'CANCELLED'}
-        index = result.active_index if self.index < 0 else self.index
-        if not 0 <= index < len(result.isogroups):
-            self.report({'ERROR'}, "Choose an isogroup in the list first" if self.index < 0 else
-                        "{} has {}: there is no isogroup {}".format(
-                            obj.name, _plural(len(result.isogroups), "isogroup"), index))
+        index = isogroup_index_or_report(self, obj)
+        if index is None:
             return {'CANCELLED'}
         item = result.isogroups[index]
         order = item.order

@@ -222,10 +222,7 @@ def clear(graph_obj):
     """Remove the rules object of ``graph_obj``."""
     child = rules_object(graph_obj)
     if child is not None:
-        child_mesh = child.data
-        bpy.data.objects.remove(child)
-        if child_mesh is not None and child_mesh.users == 0:
-            bpy.data.meshes.remove(child_mesh)
+        pattern_display.remove_child(child)
 
 
 def ensure_object(graph_obj):
@@ -233,14 +230,7 @@ def ensure_object(graph_obj):
     graph's collections, with the Road Rules modifier."""
     child = rules_object(graph_obj)
     if child is None:
-        name = graph_obj.name + " Rules"
-        child = bpy.data.objects.new(name, bpy.data.meshes.new(name))
-        child[OBJECT_KEY] = 1
-        child.parent = graph_obj
-        child.hide_select = True  # clicks select the graph
-        collections = graph_obj.users_collection or (bpy.context.scene.collection,)
-        for collection in collections:
-            collection.objects.link(child)
+        child = pattern_display.new_child(graph_obj, graph_obj.name + " Rules", OBJECT_KEY)
     modifier = find_modifier(child)
     if modifier is None or modifier.node_group.get(MARKER) != NODE_GROUP_VERSION:
         if modifier is not None:
@@ -308,47 +298,8 @@ def node_group():
         node.inputs["Name"].default_value = name
         return _socket(node.outputs, "Attribute")
 
-    # Streets -> points with the street's direction (captured on the edges).
-    edge_vertices = _node(nodes, 'GeometryNodeInputMeshEdgeVertices', (-1600, -500))
-    direction = _node(nodes, 'ShaderNodeVectorMath', (-1400, -500), operation='SUBTRACT')
-    links.new(edge_vertices.outputs["Position 2"], direction.inputs[0])
-    links.new(edge_vertices.outputs["Position 1"], direction.inputs[1])
-    capture = _node(nodes, 'GeometryNodeCaptureAttribute', (-1200, 0), data_type='FLOAT_VECTOR', domain='EDGE')
-    links.new(geometry, capture.inputs["Geometry"])
-    links.new(direction.outputs["Vector"], _socket(capture.inputs, "Value", 'VECTOR'))
-    street_points = _node(nodes, 'GeometryNodeMeshToPoints', (-1000, 0), mode='EDGES')
-    links.new(capture.outputs["Geometry"], street_points.inputs["Mesh"])
-
-    captured = _socket(capture.outputs, "Attribute", 'VECTOR')
-    xyz = _node(nodes, 'ShaderNodeSeparateXYZ', (-1000, -300))
-    links.new(captured, xyz.inputs[0])
-    angle = _node(nodes, 'ShaderNodeMath', (-800, -300), operation='ARCTAN2')
-    links.new(xyz.outputs["Y"], angle.inputs[0])
-    links.new(xyz.outputs["X"], angle.inputs[1])
-    rotation = _node(nodes, 'ShaderNodeCombineXYZ', (-600, -300))
-    links.new(angle.outputs[0], rotation.inputs["Z"])
-    length = _node(nodes, 'ShaderNodeVectorMath', (-800, -500), operation='LENGTH')
-    links.new(captured, length.inputs[0])
-    width = _node(nodes, 'GeometryNodeInputNamedAttribute', (-1000, -700), data_type='FLOAT')
-    width.inputs["Name"].default_value = WIDTH
-    scaled = _node(nodes, 'ShaderNodeMath', (-800, -700), operation='MULTIPLY')
-    links.new(_socket(width.outputs, "Attribute"), scaled.inputs[0])
-    links.new(group_in.outputs["Width Scale"], scaled.inputs[1])
-    ribbon_width = _node(nodes, 'ShaderNodeMath', (-600, -700), operation='MAXIMUM')
-    links.new(scaled.outputs[0], ribbon_width.inputs[0])
-    links.new(group_in.outputs["Min Width"], ribbon_width.inputs[1])
-    ribbon_length = _node(nodes, 'ShaderNodeMath', (-600, -500), operation='ADD')
-    links.new(length.outputs["Value"], ribbon_length.inputs[0])
-    links.new(ribbon_width.outputs[0], ribbon_length.inputs[1])
-    scale = _node(nodes, 'ShaderNodeCombineXYZ', (-400, -500))
-    scale.inputs["Z"].default_value = 1.0
-    links.new(ribbon_length.outputs[0], scale.inputs["X"])
-    links.new(ribbon_width.outputs[0], scale.inputs["Y"])
-    quad = _node(nodes, 'GeometryNodeMeshGrid', (-1000, 400))
-    quad.inputs["Size X"].default_value = 1.0
-    quad.inputs["Size Y"].default_value = 1.0
-    quad.inputs["Vertices X"].default_value = 2
-    quad.inputs["Vertices Y"].default_value = 2
+    # Streets -> points carrying their ribbon's rotation and scale.
+    ribbons = pattern_display.edge_ribbons(tree, group_in, geometry, -400)
 
     # Marker vertices -> points; a disc (and its outline) of radius Marker Size.
     marker_slot = named_int(MARKER_SLOT, (-1400, 800))
@@ -377,45 +328,19 @@ def node_group():
     join = _node(nodes, 'GeometryNodeJoinGeometry', (1100, 0))
     street_slot = named_int(EDGE_SLOT, (-400, -900))
 
-    def instances(points, slot_field, slot, mesh, mat, lift, scale_socket, rotation_socket, y):
-        """Instance ``mesh`` (material ``mat``, raised by Height + ``lift``) on the ``points``
-        whose ``slot_field`` is ``slot`` (None: all of them)."""
-        height = _node(nodes, 'ShaderNodeMath', (-200, y), operation='ADD')
-        links.new(group_in.outputs["Height"], height.inputs[0])
-        height.inputs[1].default_value = lift
-        offset = _node(nodes, 'ShaderNodeCombineXYZ', (0, y))
-        links.new(height.outputs[0], offset.inputs["Z"])
-        raised = _node(nodes, 'GeometryNodeTransform', (200, y))
-        links.new(mesh, raised.inputs["Geometry"])
-        links.new(offset.outputs[0], raised.inputs["Translation"])
-        set_material = _node(nodes, 'GeometryNodeSetMaterial', (400, y))
-        set_material.inputs["Material"].default_value = mat
-        links.new(raised.outputs["Geometry"], set_material.inputs["Geometry"])
-        instance = _node(nodes, 'GeometryNodeInstanceOnPoints', (700, y))
-        links.new(points, instance.inputs["Points"])
-        if slot is not None:
-            is_slot = _node(nodes, 'FunctionNodeCompare', (400, y - 150), data_type='INT', operation='EQUAL')
-            links.new(slot_field, _socket(is_slot.inputs, "A", 'INT'))
-            _socket(is_slot.inputs, "B", 'INT').default_value = slot
-            links.new(_socket(is_slot.outputs, "Result"), instance.inputs["Selection"])
-        links.new(set_material.outputs["Geometry"], instance.inputs["Instance"])
-        if rotation_socket is not None:
-            links.new(rotation_socket, instance.inputs["Rotation"])
-        links.new(scale_socket, instance.inputs["Scale"])
-        links.new(instance.outputs["Instances"], join.inputs["Geometry"])
-
+    instances = pattern_display.raised_instances
     y = -1000
     for slot in range(NEUTRAL_SLOT, PALETTE_SIZE + 1):
-        instances(street_points.outputs["Points"], street_slot, slot, quad.outputs["Mesh"], slot_material(slot),
-                  SLOT_STEP_M * slot, scale.outputs[0], rotation.outputs[0], y)
+        instances(tree, group_in, join, ribbons.points.outputs["Points"], ribbons.quad, slot_material(slot),
+                  SLOT_STEP_M * slot, ribbons.scale, ribbons.rotation, y, street_slot, slot)
         y -= 260
     top = SLOT_STEP_M * (PALETTE_SIZE + 1) + MARKER_LIFT_M
     y = 1400
-    instances(marker_points.outputs["Points"], None, None, disc.outputs["Mesh"], outline_material(), top,
+    instances(tree, group_in, join, marker_points.outputs["Points"], disc.outputs["Mesh"], outline_material(), top,
               outline_scale.outputs[0], None, y)
     for slot in range(1, DIMMED_SLOT + 1):
         y += 260
-        instances(marker_points.outputs["Points"], marker_slot, slot, disc.outputs["Mesh"], slot_material(slot),
-                  top + SLOT_STEP_M, marker_scale.outputs[0], None, y)
+        instances(tree, group_in, join, marker_points.outputs["Points"], disc.outputs["Mesh"], slot_material(slot),
+                  top + SLOT_STEP_M, marker_scale.outputs[0], None, y, marker_slot, slot)
     links.new(join.outputs["Geometry"], group_out.inputs["Geometry"])
     return tree
