@@ -44,5 +44,6 @@ if [ -f "$root/scripts/render_patterns_demo.py" ]; then
     >/dev/null
 fi
 GGG_MODULE_DIR="$build/python" blender -b --factory-startup --python-exit-code 1 \
-  --python "$root/scripts/render_synthesis_demo.py" -- "$out/learn_blender.png" "$out/grow_blender.png" --size 1200 >/dev/null
+  --python "$root/scripts/render_synthesis_demo.py" -- "$out/learn_blender.png" "$out/grow_blender.png" \
+  --replaced "$out/replace_blender.png" --stitched "$out/stitch_blender.png" --size 1200 >/dev/null
 echo "pictures written to $out"
