@@ -50,6 +50,24 @@ std::vector<std::int64_t> parse_ids(const std::string& text) {
 
 } // namespace
 
+std::vector<VertexId> seed_vertices(const GeometricGraph& graph, const std::string& osm_ids) {
+    std::unordered_map<std::int64_t, VertexId> vertex_of;
+    for (std::size_t v = 0; v < graph.vertex_count(); ++v) {
+        if (graph.vertex_osm_ids[v] != 0) vertex_of.emplace(graph.vertex_osm_ids[v], static_cast<VertexId>(v));
+    }
+    std::vector<VertexId> seed;
+    for (std::int64_t id : parse_ids(osm_ids)) {
+        const auto it = vertex_of.find(id);
+        if (it == vertex_of.end()) {
+            throw UsageError("--seed-osm-nodes: OSM node " + std::to_string(id) +
+                             " is not a vertex of the road graph (a seed is made of intersections and road ends; "
+                             "--keep-shape-nodes makes every node a vertex)");
+        }
+        seed.push_back(it->second);
+    }
+    return seed;
+}
+
 void AnalysisFlags::add_to(CLI::App& c) {
     c.add_option("--grid", grid, "Polar grid of the vertex expansion: ANGLESxDISTANCES cells")->capture_default_str();
     c.add_option("--cut", cut, "Fraction of the least frequent patterns not grown further, once patterns are formed")
@@ -112,21 +130,7 @@ int AnalyzeCommand::run() const {
     const auto t0 = std::chrono::steady_clock::now();
     const GeometricGraph graph = read_graph(input_, import_.options(), nullptr, terminal_progress());
     const auto t1 = std::chrono::steady_clock::now();
-    if (!seed_osm_nodes_.empty()) {
-        std::unordered_map<std::int64_t, VertexId> vertex_of;
-        for (std::size_t v = 0; v < graph.vertex_count(); ++v) {
-            if (graph.vertex_osm_ids[v] != 0) vertex_of.emplace(graph.vertex_osm_ids[v], static_cast<VertexId>(v));
-        }
-        for (std::int64_t id : parse_ids(seed_osm_nodes_)) {
-            const auto it = vertex_of.find(id);
-            if (it == vertex_of.end()) {
-                throw UsageError("--seed-osm-nodes: OSM node " + std::to_string(id) +
-                                 " is not a vertex of the road graph (a seed is made of intersections and road ends; "
-                                 "--keep-shape-nodes makes every node a vertex)");
-            }
-            options.seed.push_back(it->second);
-        }
-    }
+    if (!seed_osm_nodes_.empty()) options.seed = seed_vertices(graph, seed_osm_nodes_);
     const Analysis analysis = analyze(graph, options, terminal_progress());
     const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - t1;
     const std::chrono::duration<double> import_seconds = t1 - t0;

@@ -1,6 +1,7 @@
 #pragma once
 // `ggg analyze`: the graph analyzer (isogroup detection and selection) on one road graph.
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -27,6 +28,10 @@ struct AnalysisFlags {
     // Throws UsageError for a bad grid, scale or option value.
     AnalyzeOptions options() const;
 };
+
+// The vertices of the OSM nodes listed in `osm_ids` ("123,456,..."); UsageError for an id
+// that is not a vertex of `graph`.
+std::vector<VertexId> seed_vertices(const GeometricGraph& graph, const std::string& osm_ids);
 
 class AnalyzeCommand {
 public:

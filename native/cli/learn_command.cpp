@@ -40,6 +40,8 @@ void LearnCommand::add_to(CLI::App& app) {
     c.add_flag("--lossless", lossless_, "Store per-vertex residuals: decoding gives back exactly the input's edges and positions");
     c.add_option("--levels", levels_, "Most passes of the encoder, each adding at most one level of hierarchy (0 = until nothing repeats)")->check(CLI::Range(0, 100000))->capture_default_str();
     c.add_option("--stats", stats_path_, "Also write the stats to this JSON file");
+    c.add_option("--seed-osm-nodes", seed_osm_nodes_,
+                 "Comma-separated OSM node ids of a piece to learn first: its pattern becomes the first rule, with all its copies");
     c.add_option("--max-shape-error", max_shape_error_,
                  "Leave out copies farther than this from the pattern's shape (RMS, relative to its size; 0 = keep all)")
         ->check(CLI::Range(0.0, 10.0))
@@ -59,6 +61,7 @@ int LearnCommand::run() const {
     const auto t0 = std::chrono::steady_clock::now();
     const GeometricGraph graph = read_graph(input_, import_.options(), nullptr, terminal_progress());
     const std::chrono::duration<double> import_seconds = std::chrono::steady_clock::now() - t0;
+    if (!seed_osm_nodes_.empty()) options.seed = seed_vertices(graph, seed_osm_nodes_);
     const LearnResult result = learn_grammar(graph, options, learning_progress());
     write_grammar(result.grammar, output_);
     const std::chrono::duration<double> total = std::chrono::steady_clock::now() - t0;

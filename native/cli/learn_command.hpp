@@ -22,6 +22,7 @@ private:
     std::string input_;
     std::string output_;
     std::string stats_path_;
+    std::string seed_osm_nodes_;
     ImportFlags import_;
     AnalysisFlags analysis_;
     bool lossless_ = false;

@@ -16,7 +16,8 @@ void bind_learning(py::module_& m) {
         "learn",
         [](const GeometricGraph& g, bool lossless, int levels, std::pair<int, int> grid, double cut, bool full, int max_order,
            std::size_t min_count, const std::string& scale, double min_aspect, std::size_t min_leaves, double min_irregularity,
-           double max_shape_error, std::optional<py::function> progress) {
+           double max_shape_error, std::optional<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>> seed,
+           std::optional<py::function> progress) {
             LearnOptions o;
             o.lossless = lossless;
             o.max_levels = levels;
@@ -31,6 +32,13 @@ void bind_learning(py::module_& m) {
             o.analysis.constraints.min_leaves = min_leaves;
             o.analysis.constraints.min_irregularity_deg = min_irregularity;
             o.max_shape_error = max_shape_error;
+            if (seed) {
+                const auto s = seed->unchecked<1>();
+                for (py::ssize_t i = 0; i < s.shape(0); ++i) {
+                    if (s(i) < 0 || static_cast<std::size_t>(s(i)) >= g.vertex_count()) throw UsageError("seed vertex " + std::to_string(s(i)) + " is out of range");
+                    o.seed.push_back(static_cast<VertexId>(s(i)));
+                }
+            }
             check_options(o);
             PythonProgress reporter(std::move(progress));
             LearnResult result = reporter.run([&](const ProgressCallback& cb) { return learn_grammar(g, o, cb); });
@@ -41,13 +49,14 @@ void bind_learning(py::module_& m) {
         py::arg("cut") = 0.8, py::arg("full") = false, py::arg("max_order") = LearnOptions::default_analysis().detection.max_order,
         py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
         py::arg("min_irregularity") = 0.0, py::arg("max_shape_error") = LearnOptions{}.max_shape_error,
-        py::arg("progress") = py::none(),
+        py::arg("seed") = py::none(), py::arg("progress") = py::none(),
         "Learn a grammar of the road graph: returns (Grammar, stats dict as `ggg learn` prints it).\n"
         "lossless=True stores per-vertex residuals so that decode() gives back exactly the graph's edges and\n"
         "positions (within 1e-6 m). levels: most passes of the encoder, each adding at most one level of\n"
         "hierarchy (0 = until nothing repeats). The analysis\n"
         "options are those of ggg.analyze; min_aspect / min_leaves / min_irregularity constrain the patterns\n"
-        "that become rules. progress(fraction, message) is called per level and may return False to cancel.");
+        "that become rules. seed: vertex ids of a piece the user picked: its pattern becomes the first rule, with all its\n"
+        "copies. progress(fraction, message) is called per level and may return False to cancel.");
 
     m.def(
         "decode",

@@ -363,3 +363,32 @@ TEST(GrammarLearningCli, LearnThenDecode) {
 }
 
 } // namespace ggg
+
+namespace ggg {
+
+// A piece the user picked (Fig. 18a, "user selected") becomes the first rule, with its copies,
+// before the automatic passes; the grammar still decodes exactly in lossless mode.
+TEST(GrammarLearning, AUserSeedBecomesTheFirstRule) {
+    test::GridOptions grid;
+    grid.n = 10;
+    grid.jitter = 0.01;
+    const GeometricGraph g = test::make_grid(grid);
+    LearnOptions o;
+    o.lossless = true;
+    o.seed = {0, 1, 11, 10}; // one block
+    const LearnResult r = learn_grammar(g, o);
+    ASSERT_FALSE(r.grammar.rules.empty());
+    const Rule& first = r.grammar.rules.front();
+    EXPECT_EQ(first.vertices.size(), 4u);
+    EXPECT_EQ(first.edges.size(), 4u);
+    EXPECT_GE(first.uses, 20u); // of the 25 blocks of the 10 x 10 grid that share no corner
+    EXPECT_EQ(r.levels.front().rules, 1u);
+    EXPECT_TRUE(r.roundtrip.edges_equal);
+    EXPECT_LE(r.roundtrip.max_displacement_m, 1e-6);
+    o.seed = {0, 99999};
+    EXPECT_THROW(learn_grammar(g, o), UsageError);
+    o.seed = {0, 22}; // not connected
+    EXPECT_THROW(learn_grammar(g, o), UsageError);
+}
+
+} // namespace ggg

@@ -161,8 +161,10 @@ public:
         const auto start = Clock::now();
         start_level_graph();
         const int max_levels = options_.max_levels > 0 ? options_.max_levels : 1'000'000;
-        for (int level = 1; level <= max_levels; ++level) {
-            if (!encode_level(level)) break;
+        int level = 1;
+        if (!options_.seed.empty()) encode_level(level++, true);
+        for (; level <= max_levels; ++level) {
+            if (!encode_level(level, false)) break;
         }
         report(progress_, 0.92, "building the grammar");
         result_.axiom_edges = graph_.edge_count();
@@ -202,7 +204,7 @@ private:
 
     // One level: analyse, take the groups that pay, contract their occurrences. False when
     // nothing was encoded.
-    bool encode_level(int level) {
+    bool encode_level(int level, bool seeded) {
         if (graph_.edge_count() == 0) return false;
         const auto level_start = Clock::now();
         // Each level takes half of what is left of the first 90 %: the count of levels is not
@@ -217,7 +219,9 @@ private:
         }
         report(stage, 0.0, "analysing " + std::to_string(graph_.vertex_count()) + " vertices");
         const auto analysis_start = Clock::now();
-        const Analysis analysis = analyze(graph_, options_.analysis, stage);
+        AnalyzeOptions analysis_options = options_.analysis;
+        if (seeded) analysis_options.seed = options_.seed;
+        const Analysis analysis = analyze(graph_, analysis_options, stage);
         result_.analysis_seconds += seconds_since(analysis_start);
 
         const Adjacency adj(graph_);
@@ -228,7 +232,8 @@ private:
         lr.vertices = graph_.vertex_count();
         lr.edges = graph_.edge_count();
         for (const AnalyzedIsogroup& ag : analysis.isogroups) {
-            if (ag.selection.gain <= 0) break; // ranked by gain: nothing after pays either
+            if (seeded && &ag != &analysis.isogroups.front()) break; // the seed's own group only
+            if (!seeded && ag.selection.gain <= 0) break; // ranked by gain: nothing after pays either
             const Isogroup& group = ag.group;
             const std::size_t k = group.order();
             if (k < 2 || group.pattern.edges.empty()) continue;
@@ -285,7 +290,7 @@ private:
                 for (VertexId v : occ) degrees += adj.degree(v);
                 outside += degrees - 2 * group.pattern.edges.size();
             }
-            if (description_gain(k, group.pattern.edges.size(), occs.size(), outside) <= 0) continue;
+            if (!seeded && description_gain(k, group.pattern.edges.size(), occs.size(), outside) <= 0) continue;
 
             const int rep = representative_vertex(graph_, adj, occs);
             RuleDraft draft;
@@ -353,7 +358,10 @@ private:
             rules_.push_back(std::move(draft));
             rotations_.push_back(static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
         }
-        if (level_instances.empty()) return false;
+        if (level_instances.empty()) {
+            if (seeded) lr.seconds = seconds_since(level_start), result_.levels.push_back(lr);
+            return false;
+        }
         contract(level_instances, used);
         occurrence_of_.clear();
         lr.seconds = seconds_since(level_start);
@@ -859,6 +867,9 @@ void check_options(const LearnOptions& o) {
 LearnResult learn_grammar(const GeometricGraph& graph, const LearnOptions& options, const ProgressCallback& progress) {
     check_options(options);
     if (graph.edge_count() == 0) throw InputError("the graph has no streets to learn from");
+    for (VertexId v : options.seed) {
+        if (v < 0 || static_cast<std::size_t>(v) >= graph.vertex_count()) throw UsageError("a seed vertex is out of range");
+    }
     return Encoder(graph, options, progress).run();
 }
 

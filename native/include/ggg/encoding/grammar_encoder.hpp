@@ -37,6 +37,11 @@ struct LearnOptions {
     // The analysis run at every level (grid, cut, max order, scale mode, constraints...).
     AnalyzeOptions analysis = default_analysis();
     bool lossless = false;
+    // A piece of the input the user picked (vertex ids, a connected induced subgraph, paper
+    // Fig. 18a "user selected"): its pattern becomes the first rule, with every copy the
+    // analyzer's seeded search finds (that do not overlap), whatever its gain, before the
+    // automatic passes. Empty = none.
+    std::vector<VertexId> seed;
     // Most passes of the encoder (each adds at most one level of hierarchy); 0 = until
     // nothing repeats.
     int max_levels = 64;
