@@ -486,3 +486,29 @@ def test_modal_learn_cancelled_with_escape(sample_city, ggg, tmp_path):
     assert result["was_running"] and result["progress_calls"] >= 1
     assert not result["still_running"]
     assert result["after"] == result["before"] and result["after"]["texts"] == []
+
+
+def test_selection_as_first_rule(town, ggg):
+    # One block of the town's grid, picked by the analyzer: its vertices are the selection.
+    graph = analysis.MeshTopology(town, with_classes=True).graph(ggg)
+    block = [iso for iso in ggg.analyze(graph, max_order=4).isogroups if iso.order == 4 and iso.edge_count == 4][0]
+    selected = np.zeros(len(town.data.vertices), dtype=bool)
+    selected[block.occurrences[0]] = True
+    town.data.vertices.foreach_set("select", selected)
+    town.data.update()
+    assert bpy.ops.roads.learn(use_seed=True) == {'FINISHED'}
+    parsed = text_grammar(ggg, town.road_learning.text)
+    first = parsed.rules[0]
+    assert (first["vertices"], first["edges"]) == (4, 4) and first["uses"] >= 2
+    direct, _ = ggg.learn(graph, seed=block.occurrences[0])
+    assert [(r["vertices"], r["edges"], r["uses"]) for r in parsed.rules] == \
+        [(r["vertices"], r["edges"], r["uses"]) for r in direct.rules]
+    # A selection that is not one connected piece is refused, nothing changes.
+    text = town.road_learning.text
+    selected[:] = False
+    selected[[0, len(selected) - 1]] = True
+    town.data.vertices.foreach_set("select", selected)
+    town.data.update()
+    with pytest.raises(RuntimeError, match="Selection as first rule: No street joins"):
+        bpy.ops.roads.learn(use_seed=True)
+    assert town.road_learning.text == text

@@ -79,6 +79,10 @@ def settings_properties(options=frozenset({'ANIMATABLE'})):
             name="Min Irregularity", description="Only patterns whose street angles deviate at least this much from "
             "a right-angled grid become rules (degrees)", default=0.0, min=0.0, max=45.0, precision=1,
             options=options),
+        "use_seed": BoolProperty(
+            name="Selection as First Rule", description="The piece selected in Edit Mode becomes the first rule, with "
+            "all its copies, before the automatic passes (paper Fig. 18a, user selected)", default=False,
+            options=options),
     }
 
 

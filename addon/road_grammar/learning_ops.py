@@ -59,7 +59,7 @@ class ROADS_OT_learn(jobs.ModalJobOperator, Operator):
 
     __annotations__ = learning.settings_properties(options={'SKIP_SAVE'})
     _FROM_SETTINGS = ("angle_cells", "distance_cells", "cut", "max_order", "levels", "mode", "min_aspect",
-                      "min_leaves", "min_irregularity")
+                      "min_leaves", "min_irregularity", "use_seed")
     _running = running
     _doing = "Learning from"
     _noun = "the learning"
@@ -71,7 +71,7 @@ class ROADS_OT_learn(jobs.ModalJobOperator, Operator):
 
     def draw(self, context):
         analysis_ops.draw_settings(self, ("cut", "max_order", "levels", "mode", "min_aspect", "min_leaves",
-                                          "min_irregularity"))
+                                          "min_irregularity", "use_seed"))
 
     def _settings(self, context):
         return context.scene.road_learning
@@ -93,6 +93,14 @@ class ROADS_OT_learn(jobs.ModalJobOperator, Operator):
         if len(topology.edges) == 0:
             self.report({'ERROR'}, "{} has no edges to learn from".format(obj.name))
             return False
+        options = self._options()
+        if self.use_seed:
+            seed = topology.selected_ids()
+            problem = analysis.seed_problem(topology.edges, seed)
+            if problem is not None:
+                self.report({'ERROR'}, "Selection as first rule: " + problem)
+                return False
+            options["seed"] = seed
         try:
             graph = topology.graph(ggg)
         except ggg.Error as ex:
@@ -101,7 +109,7 @@ class ROADS_OT_learn(jobs.ModalJobOperator, Operator):
         self._ggg = ggg
         self._object_name = obj.name
         self._topology = topology
-        self._job = LearningJob(ggg, graph, self._options())
+        self._job = LearningJob(ggg, graph, options)
         self._job.start()
         return True
 

@@ -50,6 +50,7 @@ class VIEW3D_PT_roads_learn(_RoadsTab, Panel):
         col.prop(settings, "max_order")
         col.prop(settings, "levels")
         box.row(align=True).prop(settings, "mode", expand=True)
+        box.prop(settings, "use_seed")
         _constraints(box.column(align=True), settings)
         _run_button(box, graph, settings, ROADS_OT_learn)
 

@@ -121,3 +121,13 @@ def test_compare_networks():
     coarse = ggg.compare(a, grid(10, spacing=250.0))
     assert coarse["distances"]["edge_length"] == 1.0 and coarse["distances"]["block_area"] == 1.0
     assert coarse["a"]["orientation_order"] > 0.9 and coarse["a"]["blocks"] == 81
+
+
+def test_learning_from_a_users_piece():
+    g = grid(10)
+    grammar, stats = ggg.learn(g, seed=np.array([0, 1, 11, 10]), lossless=True)
+    first = grammar.rules[0]
+    assert (first["vertices"], first["edges"]) == (4, 4) and first["uses"] >= 20
+    assert stats["per_level"][0]["rules"] == 1 and stats["roundtrip"]["edges_equal"]
+    with pytest.raises(ggg.UsageError):
+        ggg.learn(g, seed=np.array([0, 10 ** 6]))
