@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import road_grammar
-from conftest import import_roads, snapshot
+from conftest import PanelLayout, import_roads, snapshot
 from road_grammar import grammar, graph_edit, importer, mesh_build, stitch_ops
 
 HERE = Path(__file__).resolve().parent
@@ -386,32 +386,6 @@ def _renamed(text, prefix):
     return [prefix + name for name in names]
 
 
-class _Layout:
-    """Stands in for a UILayout: records labels and operator buttons, accepts everything else."""
-
-    def __init__(self, labels, buttons):
-        self._labels, self._buttons = labels, buttons
-
-    def label(self, text="", **_kwargs):
-        self._labels.append(text)
-
-    def operator(self, idname, **_kwargs):
-        properties = {}
-        self._buttons.append((idname, properties))
-        return _Button(properties)
-
-    def __getattr__(self, name):
-        return lambda *args, **kwargs: _Layout(self._labels, self._buttons)
-
-
-class _Button:
-    def __init__(self, properties):
-        object.__setattr__(self, "_properties", properties)
-
-    def __setattr__(self, name, value):
-        self._properties[name] = value
-
-
 def test_place_rule_with_the_second_towns_grammar(towns, ggg, reports):
     from road_grammar import panels
 
@@ -449,7 +423,7 @@ def test_place_rule_with_the_second_towns_grammar(towns, ggg, reports):
     assert [item[0] for item in grammar.rule_items(settings, bpy.context)] == names_b
     settings.rule = rule
     labels, buttons = [], []
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=_Layout(labels, buttons)), bpy.context)
+    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     place = next(properties for idname, properties in buttons if idname == "roads.place_rule")
     assert place["grammar"] == text_b.name and place["rule"] == rule
     settings.place_grammar = None
@@ -470,7 +444,7 @@ def test_the_panel_box(towns, ggg):
     settings.region, settings.region_seed, settings.region_max_placements = region_obj, 5, 90
     settings.stitch_share = 0.25
     labels, buttons = [], []
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=_Layout(labels, buttons)), bpy.context)
+    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Stitch Cities" in labels
     assert "sample_city: sample_city.grammar.json" in labels
     assert "sample_city.001: sample_city.001.grammar.json" in labels
@@ -480,7 +454,7 @@ def test_the_panel_box(towns, ggg):
     assert stitch["share"] == pytest.approx(0.25)
     assert bpy.ops.roads.stitch_cities(**stitch) == {'FINISHED'}
     labels.clear()
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=_Layout(labels, buttons)), bpy.context)
+    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Select two road graphs (the one to keep active)" in labels
 
 

@@ -449,7 +449,31 @@ def region_object(op, context, graph_objs):
     return None
 
 
-class ROADS_OT_grow_region(Operator):
+class GrowSettings:
+    """Operators that grow with the Grammar panel's settings: a property the caller does not
+    set (F3, the panel's button) takes the panel's value; the redo panel shows the objects
+    to pick (``_OBJECTS``) and the settings."""
+
+    _OBJECTS = ("region",)
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        for name in self._OBJECTS:
+            layout.prop_search(self, name, context.scene, "objects")
+        for name in self._FROM_SETTINGS:
+            layout.prop(self, name)
+
+    def invoke(self, context, event):
+        settings = context.scene.road_grammar
+        for name, setting in self._FROM_SETTINGS.items():
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, setting))
+        return self.execute(context)
+
+
+class ROADS_OT_grow_region(GrowSettings, Operator):
     """Grow streets into a region (a closed curve or a mesh, seen from above) with the active grammar's rules, from the active road graph's streets that reach it"""
 
     bl_idname = "roads.grow_region"
@@ -471,21 +495,6 @@ class ROADS_OT_grow_region(Operator):
     _FROM_SETTINGS = {"seed": "region_seed", "max_placements": "region_max_placements",
                       "max_vertices": "region_max_vertices", "patience": "region_patience",
                       "use_placed_rules": "region_use_placed"}
-
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        layout.prop_search(self, "region", context.scene, "objects")
-        for name in self._FROM_SETTINGS:
-            layout.prop(self, name)
-
-    def invoke(self, context, event):
-        settings = context.scene.road_grammar
-        for name, setting in self._FROM_SETTINGS.items():
-            if not self.properties.is_property_set(name):
-                setattr(self, name, getattr(settings, setting))
-        return self.execute(context)
 
     def _region_object(self, context, graph_obj):
         return region_object(self, context, (graph_obj,))

@@ -18,7 +18,7 @@ from bpy.types import Operator
 from . import grammar, graph_edit, importer, native
 from . import region as regions
 from .grammar_ops import _ThrottledProgress, _class_widths, _plural, _rejections, _tries, placements_that_fit
-from .grammar_ops import region_object
+from .grammar_ops import GrowSettings, region_object
 
 
 def selected_graphs(context, other_name=""):
@@ -79,7 +79,7 @@ def remove_graph_object(graph_obj):
             bpy.data.meshes.remove(mesh)
 
 
-class ROADS_OT_stitch_cities(Operator):
+class ROADS_OT_stitch_cities(GrowSettings, Operator):
     """Stitch two road graphs (the active one and one other selected): join the other into the active one and grow the region between them with the grammar of each"""
 
     bl_idname = "roads.stitch_cities"
@@ -108,21 +108,7 @@ class ROADS_OT_stitch_cities(Operator):
                       "max_vertices": "region_max_vertices", "patience": "region_patience",
                       "use_placed_rules": "region_use_placed"}
 
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        layout.prop_search(self, "other", context.scene, "objects")
-        layout.prop_search(self, "region", context.scene, "objects")
-        for name in self._FROM_SETTINGS:
-            layout.prop(self, name)
-
-    def invoke(self, context, event):
-        settings = context.scene.road_grammar
-        for name, setting in self._FROM_SETTINGS.items():
-            if not self.properties.is_property_set(name):
-                setattr(self, name, getattr(settings, setting))
-        return self.execute(context)
+    _OBJECTS = ("other", "region")
 
     # --- what to stitch ------------------------------------------------------------------
 
