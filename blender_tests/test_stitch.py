@@ -31,22 +31,6 @@ GAP = np.array([[X0, Y0], [X1, Y0], [X1, Y1], [X0, Y1]])
 # --- helpers ---------------------------------------------------------------------------------
 
 @pytest.fixture
-def reports(capsys):
-    """The (type, message) reports printed so far (background Blender prints them)."""
-    kinds = {"Info": 'INFO', "Warning": 'WARNING', "Error": 'ERROR'}
-    seen = []
-
-    def read():
-        for line in capsys.readouterr().out.splitlines():
-            kind, _, message = line.partition(": ")
-            if kind in kinds:
-                seen.append((kinds[kind], message))
-        return seen
-
-    return read
-
-
-@pytest.fixture
 def op_results(monkeypatch):
     """What roads.stitch_cities' execute() returned (bpy.ops raises on ERROR reports)."""
     results = []

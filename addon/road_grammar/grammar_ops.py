@@ -449,6 +449,21 @@ def region_object(op, context, graph_objs):
     return None
 
 
+def region_polygon(op, context, region_obj, graph_obj, cannot):
+    """(polygon, loops) of the region object in the graph's frame, or None after an ERROR
+    report (no region, one no longer in the view layer, or an outline that is not one)."""
+    if region_obj is None:
+        return None
+    if context.view_layer.objects.get(region_obj.name) != region_obj:
+        op.report({'ERROR'}, "The region {} is not in the view layer (deleted?): pick another one".format(region_obj.name))
+        return None
+    try:
+        return regions.polygon(region_obj, context.evaluated_depsgraph_get(), graph_obj)
+    except regions.RegionError as ex:
+        op.report({'ERROR'}, "{} {}: {}".format(cannot, region_obj.name, ex))
+        return None
+
+
 class GrowSettings:
     """Operators that grow with the Grammar panel's settings: a property the caller does not
     set (F3, the panel's button) takes the panel's value; the redo panel shows the objects
@@ -514,17 +529,10 @@ class ROADS_OT_grow_region(GrowSettings, Operator):
                         "it".format(getattr(ggg, "__file__", "ggg")))
             return {'CANCELLED'}
         region_obj = self._region_object(context, graph_obj)
-        if region_obj is None:
+        read = region_polygon(self, context, region_obj, graph_obj, "Cannot grow into")
+        if read is None:
             return {'CANCELLED'}
-        if context.view_layer.objects.get(region_obj.name) != region_obj:
-            self.report({'ERROR'}, "The region {} is not in the view layer (deleted?): pick another one".format(
-                region_obj.name))
-            return {'CANCELLED'}
-        try:
-            polygon, loops = regions.polygon(region_obj, context.evaluated_depsgraph_get(), graph_obj)
-        except regions.RegionError as ex:
-            self.report({'ERROR'}, "Cannot grow into {}: {}".format(region_obj.name, ex))
-            return {'CANCELLED'}
+        polygon, loops = read
         self.region = region_obj.name  # the redo panel grows into the same region
 
         with graph_edit.object_mode(context, graph_obj):

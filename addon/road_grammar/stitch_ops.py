@@ -16,9 +16,8 @@ from bpy.props import StringProperty
 from bpy.types import Operator
 
 from . import grammar, graph_edit, importer, native
-from . import region as regions
 from .grammar_ops import _ThrottledProgress, _class_widths, _plural, _rejections, _tries, placements_that_fit
-from .grammar_ops import GrowSettings, region_object
+from .grammar_ops import GrowSettings, region_object, region_polygon
 
 
 def selected_graphs(context, other_name=""):
@@ -187,17 +186,10 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
         (text_a, parsed_a), second = grammars
         text_b, parsed_b = second if second is not None else (None, None)
         region_obj = region_object(self, context, (active, other))
-        if region_obj is None:
+        read = region_polygon(self, context, region_obj, active, "Cannot stitch into")
+        if read is None:
             return {'CANCELLED'}
-        if context.view_layer.objects.get(region_obj.name) != region_obj:
-            self.report({'ERROR'}, "The region {} is not in the view layer (deleted?): pick another one".format(
-                region_obj.name))
-            return {'CANCELLED'}
-        try:
-            polygon, loops = regions.polygon(region_obj, context.evaluated_depsgraph_get(), active)
-        except regions.RegionError as ex:
-            self.report({'ERROR'}, "Cannot stitch into {}: {}".format(region_obj.name, ex))
-            return {'CANCELLED'}
+        polygon, loops = read
         # The redo panel stitches the same objects.
         self.region, self.other = region_obj.name, other.name
         name_a, name_b = active.name, other.name
