@@ -70,6 +70,7 @@ void bind_synthesis(py::module_& m) {
             d["rejected_crossing"] = report.rejected_crossing;
             d["rejected_crowded"] = report.rejected_crowded;
             d["rejected_off_grid"] = report.rejected_off_grid;
+            d["rejected_small_block"] = report.rejected_small_block;
             d["grid"] = report.grid;
             d["filled"] = report.filled;
             d["stopped_by_budget"] = report.stopped_by_budget;

@@ -60,7 +60,8 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
                 recounted[index] = 1;
                 continue;
             }
-            Isogroup copies = find_pattern(g, group.pattern, exact);
+            Isogroup copies = find_settled_pattern(g, group.pattern, exact);
+            group.pattern = std::move(copies.pattern);
             group.vertices = std::move(copies.vertices);
             group.transforms = std::move(copies.transforms);
             recounted[index] = 1;

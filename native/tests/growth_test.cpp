@@ -168,8 +168,9 @@ TEST(Growth, CommandLine) {
 namespace ggg {
 
 // The style of a grid city and of an irregular one carries over to what their grammars grow:
-// street orientations of a region grown from Columbus' grammar are closer to Columbus' than to
-// the Marais', and those grown from the Marais' closer to the Marais' than to Columbus'.
+// a region grown from Columbus' grammar is closer to Columbus than to the Marais, and one
+// grown from the Marais' closer to the Marais than to Columbus, by street orientation and by
+// the mean of the four distances (degree, edge length, orientation, block area).
 TEST(Growth, AGrownRegionHasTheStyleOfItsCity) {
     GGG_REQUIRE_CORPUS();
     const std::string dir = test::shared_osm_dir();
@@ -191,6 +192,8 @@ TEST(Growth, AGrownRegionHasTheStyleOfItsCity) {
         EXPECT_FALSE(report.grid);
         EXPECT_GT(report.placements, 20u);
         EXPECT_LT(network_distances(from_columbus, sc).orientation, network_distances(from_columbus, sp).orientation) << "seed " << seed;
+        EXPECT_LT(network_distances(from_columbus, sc).mean(), network_distances(from_columbus, sp).mean()) << "seed " << seed;
+        EXPECT_LT(network_distances(from_columbus, sc).block_area, network_distances(from_columbus, sp).block_area) << "seed " << seed;
         EXPECT_LT(network_distances(from_paris, sp).orientation, network_distances(from_paris, sc).orientation) << "seed " << seed;
         EXPECT_LT(network_distances(from_paris, sp).mean(), network_distances(from_paris, sc).mean()) << "seed " << seed;
         EXPECT_GT(from_columbus.orientation_order, from_paris.orientation_order) << "seed " << seed;

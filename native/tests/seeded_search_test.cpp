@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <set>
 
@@ -121,6 +122,43 @@ TEST(SeededSearch, GridSquareFindsEverySquare) {
     const std::vector<VertexId> seed{0, 1, n + 1, n};
     const Isogroup found = find_occurrences(g, seed);
     EXPECT_EQ(test::occurrence_sets(found), test::grid_squares(n));
+}
+
+// A recount that starts from a poor estimate of a pattern (a skewed square, as the mean of a
+// few noisy copies can be) settles on the copies of the pattern the data holds: every
+// square of a jittered grid, whichever skew it started from.
+TEST(SeededSearch, SettledCountDoesNotDependOnTheStartingEstimate) {
+    const int n = 12;
+    const GeometricGraph g = test::make_grid({.n = n, .jitter = 0.03, .angle_rad = 0.3, .seed = 5});
+    auto skewed_square = [](double skew) {
+        Pattern p;
+        p.positions = {{0.0, 0.0}, {1.0, 0.0}, {1.0 + skew, 1.0}, {skew, 1.0}};
+        p.symbols.assign(4, 0);
+        p.edges = {{0, 1}, {0, 3}, {1, 2}, {2, 3}};
+        const Spread s = spread_of(p.positions);
+        for (Vec2& q : p.positions) q = (q - s.centroid) / s.rms;
+        p.metres_per_unit = 100.0 * s.rms;
+        return p;
+    };
+    SeedSearchOptions o;
+    o.tolerance = 0.15;
+    const std::set<std::vector<VertexId>> squares = test::grid_squares(n);
+    const std::size_t once_left = find_pattern(g, skewed_square(0.26), o).frequency();
+    const std::size_t once_right = find_pattern(g, skewed_square(-0.26), o).frequency();
+    ASSERT_LT(once_left, squares.size() * 9 / 10) << "the skewed start must miss squares for the test to mean anything";
+    ASSERT_LT(once_right, squares.size() * 9 / 10);
+    const Isogroup left = find_settled_pattern(g, skewed_square(0.26), o);
+    const Isogroup right = find_settled_pattern(g, skewed_square(-0.26), o);
+    EXPECT_EQ(test::occurrence_sets(left), squares) << once_left << " " << left.frequency() << " of " << squares.size();
+    EXPECT_EQ(test::occurrence_sets(right), squares) << once_right << " " << right.frequency();
+    // The settled pattern is the mean of its copies: a square of the grid's spacing.
+    const Pattern mean = mean_pattern(g, left);
+    EXPECT_NEAR(mean.metres_per_unit, left.pattern.metres_per_unit, 1e-3 * left.pattern.metres_per_unit);
+    EXPECT_NEAR(left.pattern.metres_per_unit, 100.0 / std::sqrt(2.0), 2.0);
+    IsomorphismOptions iso;
+    iso.tolerance = 0.03;
+
+    EXPECT_TRUE(geometrically_isomorphic(left.pattern, skewed_square(0.0), iso));
 }
 
 TEST(SeededSearch, BadSeedsAreUsageErrors) {

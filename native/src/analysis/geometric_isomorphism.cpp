@@ -13,6 +13,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -390,20 +391,13 @@ IsomorphismOptions::Scale scale_mode_from_name(std::string_view name) {
     throw UsageError("scale mode must be similarity, rigid or range, got '" + std::string(name) + "'");
 }
 
-std::optional<IsomorphismMatch> geometrically_isomorphic(const Pattern& a, const Pattern& b,
-                                                         const IsomorphismOptions& options) {
-    check_options(options);
-    require_valid(a, "a");
-    require_valid(b, "b");
-    using Scale = IsomorphismOptions::Scale;
+namespace {
 
-    if (a.size() != b.size() || a.edges.size() != b.edges.size()) return std::nullopt;
-    const Prepared pa(a);
-    const Prepared pb(b);
-    if (pa.spread.degenerate != pb.spread.degenerate) return std::nullopt;
-    if (signature_of(pa, a, options.respect_symbols) != signature_of(pb, b, options.respect_symbols)) {
-        return std::nullopt;
-    }
+// The test on prepared patterns whose signatures (with or without symbols, as the options
+// say) are equal, once the cheap checks have passed.
+std::optional<IsomorphismMatch> match_prepared(const Prepared& pa, const Pattern& a, const Prepared& pb, const Pattern& b,
+                                               const IsomorphismOptions& options) {
+    using Scale = IsomorphismOptions::Scale;
 
     // sigma: size of a over size of b in the frame where residuals are measured (b's
     // normalised coordinates); tau: the tolerance in that frame; to_reported: from that
@@ -455,6 +449,51 @@ std::optional<IsomorphismMatch> geometrically_isomorphic(const Pattern& a, const
     match.transform.b = linear.imag();
     match.transform.t = pb.spread.centroid - match.transform.apply_linear(pa.spread.centroid);
     return match;
+}
+
+} // namespace
+
+std::optional<IsomorphismMatch> geometrically_isomorphic(const Pattern& a, const Pattern& b,
+                                                         const IsomorphismOptions& options) {
+    check_options(options);
+    require_valid(a, "a");
+    require_valid(b, "b");
+    if (a.size() != b.size() || a.edges.size() != b.edges.size()) return std::nullopt;
+    const Prepared pa(a);
+    const Prepared pb(b);
+    if (pa.spread.degenerate != pb.spread.degenerate) return std::nullopt;
+    if (signature_of(pa, a, options.respect_symbols) != signature_of(pb, b, options.respect_symbols)) {
+        return std::nullopt;
+    }
+    return match_prepared(pa, a, pb, b, options);
+}
+
+struct PreparedPattern::Impl {
+    Pattern pattern;
+    Prepared prepared;
+    Signature with_symbols;
+    Signature without_symbols;
+    explicit Impl(Pattern p)
+        : pattern(std::move(p)), prepared(pattern), with_symbols(signature_of(prepared, pattern, true)),
+          without_symbols(signature_of(prepared, pattern, false)) {}
+};
+
+PreparedPattern::PreparedPattern(Pattern p) {
+    require_valid(p, "to prepare");
+    impl_ = std::make_shared<const Impl>(std::move(p));
+}
+
+const Pattern& PreparedPattern::pattern() const { return impl_->pattern; }
+
+std::optional<IsomorphismMatch> geometrically_isomorphic(const PreparedPattern& a, const PreparedPattern& b,
+                                                         const IsomorphismOptions& options) {
+    check_options(options);
+    const PreparedPattern::Impl& x = *a.impl_;
+    const PreparedPattern::Impl& y = *b.impl_;
+    if (x.pattern.size() != y.pattern.size() || x.pattern.edges.size() != y.pattern.edges.size()) return std::nullopt;
+    if (x.prepared.spread.degenerate != y.prepared.spread.degenerate) return std::nullopt;
+    if (options.respect_symbols ? x.with_symbols != y.with_symbols : x.without_symbols != y.without_symbols) return std::nullopt;
+    return match_prepared(x.prepared, x.pattern, y.prepared, y.pattern, options);
 }
 
 std::vector<IsomorphismMatch> geometric_automorphisms(const Pattern& p, const IsomorphismOptions& options,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -180,12 +181,47 @@ private:
             if (!fits(c, w)) continue;
             if ((g_.positions[static_cast<std::size_t>(w)] - want).norm() > reach) continue;
             if (!induced_consistent(c, w, depth)) continue;
+            if (depth >= 2 && !fit_possible(c, w, depth, eps)) continue;
             mapping_[static_cast<std::size_t>(c)] = w;
             used_.push_back(w);
             place(depth + 1, found);
             used_.pop_back();
             mapping_[static_cast<std::size_t>(c)] = -1;
         }
+    }
+
+    // Whether the placed vertices and w at c can still be a copy: under the copy's final
+    // transform every vertex is within eps of its partner, so the least-squares similarity
+    // of any subset fits it with an RMS error of at most eps. Checking that as vertices are
+    // placed stops a wrong start long before the window above would.
+    bool fit_possible(int c, VertexId w, std::size_t depth, double eps) const {
+        const Pattern& p = plan_.pattern;
+        const std::size_t n = depth + 1;
+        Vec2 pc = p.positions[static_cast<std::size_t>(c)];
+        Vec2 gc = g_.positions[static_cast<std::size_t>(w)];
+        for (std::size_t i = 0; i < depth; ++i) {
+            pc += p.positions[static_cast<std::size_t>(plan_.order[i])];
+            gc += g_.positions[static_cast<std::size_t>(mapping_[static_cast<std::size_t>(plan_.order[i])])];
+        }
+        pc /= static_cast<double>(n);
+        gc /= static_cast<double>(n);
+        double re = 0.0, im = 0.0, pp = 0.0, gg = 0.0;
+        auto add = [&](const Vec2& pv, const Vec2& gv) {
+            const Vec2 dp = pv - pc;
+            const Vec2 dg = gv - gc;
+            re += dp.x() * dg.x() + dp.y() * dg.y();
+            im += dp.x() * dg.y() - dp.y() * dg.x();
+            pp += dp.squaredNorm();
+            gg += dg.squaredNorm();
+        };
+        add(p.positions[static_cast<std::size_t>(c)], g_.positions[static_cast<std::size_t>(w)]);
+        for (std::size_t i = 0; i < depth; ++i) {
+            const int x = plan_.order[i];
+            add(p.positions[static_cast<std::size_t>(x)], g_.positions[static_cast<std::size_t>(mapping_[static_cast<std::size_t>(x)])]);
+        }
+        if (!(pp > 0.0)) return true;
+        const double residual2 = gg - (re * re + im * im) / pp; // least-squares similarity, closed form
+        return residual2 <= static_cast<double>(n) * eps * eps * 1.0001 + 1e-12;
     }
 
     // Adjacent in the pattern to exactly the placed vertices whose images w is adjacent to.
@@ -217,17 +253,21 @@ struct Copies {
     std::vector<Similarity2> transforms;
 };
 
-Copies search(const GeometricGraph& g, const Adjacency& adj, const Pattern& pattern, const SeedSearchOptions& o,
-              const ProgressCallback& progress) {
-    const Plan plan = plan_for(pattern);
+IsomorphismOptions isomorphism_options(const SeedSearchOptions& o) {
     IsomorphismOptions iso;
     iso.tolerance = o.tolerance;
     iso.mode = o.mode;
     iso.min_scale = o.min_scale;
     iso.max_scale = o.max_scale;
     iso.respect_symbols = o.respect_symbols;
-    report(progress, 0.0, "searching for the seed");
+    return iso;
+}
 
+// The induced subgraphs that could be copies of `pattern` within o.tolerance, one per
+// vertex set, in the order of g's edges; the isomorphism test has not decided them yet.
+std::vector<std::vector<VertexId>> candidates_for(const GeometricGraph& g, const Adjacency& adj, const Pattern& pattern,
+                                                  const SeedSearchOptions& o) {
+    const Plan plan = plan_for(pattern);
     // Every edge, both ways round, as the image of the start edge. Chunks keep the order.
     constexpr std::size_t chunk = 4096;
     const std::size_t chunks = (g.edge_count() + chunk - 1) / chunk;
@@ -240,54 +280,79 @@ Copies search(const GeometricGraph& g, const Adjacency& adj, const Pattern& patt
             walker.from(v, u, per_chunk[c]);
         }
     });
-    report(progress, 0.6, "searching for the seed");
-
-    // One candidate per vertex set, in edge order.
     std::vector<std::vector<VertexId>> candidates;
-    {
-        std::vector<std::vector<VertexId>> seen_sets;
-        std::unordered_multimap<std::uint64_t, std::size_t> by_hash;
-        for (auto& list : per_chunk) {
-            for (auto& mapping : list) {
-                std::vector<VertexId> key(mapping);
-                std::sort(key.begin(), key.end());
-                std::uint64_t h = 1469598103934665603ULL;
-                for (VertexId v : key) h = (h ^ static_cast<std::uint32_t>(v)) * 1099511628211ULL;
-                bool duplicate = false;
-                const auto range = by_hash.equal_range(h);
-                for (auto it = range.first; it != range.second && !duplicate; ++it) duplicate = seen_sets[it->second] == key;
-                if (duplicate) continue;
-                by_hash.emplace(h, seen_sets.size());
-                seen_sets.push_back(std::move(key));
-                candidates.push_back(std::move(mapping));
-            }
+    std::vector<std::vector<VertexId>> seen_sets;
+    std::unordered_multimap<std::uint64_t, std::size_t> by_hash;
+    for (auto& list : per_chunk) {
+        for (auto& mapping : list) {
+            std::vector<VertexId> key(mapping);
+            std::sort(key.begin(), key.end());
+            std::uint64_t h = 1469598103934665603ULL;
+            for (VertexId v : key) h = (h ^ static_cast<std::uint32_t>(v)) * 1099511628211ULL;
+            bool duplicate = false;
+            const auto range = by_hash.equal_range(h);
+            for (auto it = range.first; it != range.second && !duplicate; ++it) duplicate = seen_sets[it->second] == key;
+            if (duplicate) continue;
+            by_hash.emplace(h, seen_sets.size());
+            seen_sets.push_back(std::move(key));
+            candidates.push_back(std::move(mapping));
         }
     }
+    return candidates;
+}
 
-    // The isomorphism test decides; it also gives the vertex order and the transform.
-    std::vector<char> accepted(candidates.size(), 0);
-    std::vector<Similarity2> transforms(candidates.size());
-    std::vector<std::vector<VertexId>> ordered(candidates.size());
+// Candidates cut out of the graph once, to be decided against several patterns.
+struct CutCandidates {
+    std::vector<std::vector<VertexId>> vertices;
+    std::vector<std::optional<PreparedPattern>> patterns;
+    std::vector<Similarity2> frames; // canonical -> graph
+};
+
+CutCandidates cut(const GeometricGraph& g, const Adjacency& adj, std::vector<std::vector<VertexId>> candidates) {
+    CutCandidates out;
+    out.patterns.resize(candidates.size());
+    out.frames.resize(candidates.size());
     tbb::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t i) {
-        Similarity2 frame;
-        const Pattern copy = induced_pattern(g, adj, candidates[i], &frame);
-        const auto match = geometrically_isomorphic(pattern, copy, iso);
+        out.patterns[i].emplace(induced_pattern(g, adj, candidates[i], &out.frames[i]));
+    });
+    out.vertices = std::move(candidates);
+    return out;
+}
+
+// The candidates that the isomorphism test accepts as copies of `pattern`, in their order,
+// with their vertices in pattern order and their transforms.
+Copies accept(const CutCandidates& c, const Pattern& pattern, const IsomorphismOptions& iso) {
+    const std::size_t n = c.vertices.size();
+    const PreparedPattern prepared(pattern);
+    std::vector<char> accepted(n, 0);
+    std::vector<Similarity2> transforms(n);
+    std::vector<std::vector<VertexId>> ordered(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+        const auto match = geometrically_isomorphic(prepared, *c.patterns[i], iso);
         if (!match) return;
         accepted[i] = 1;
-        transforms[i] = frame * match->transform;
+        transforms[i] = c.frames[i] * match->transform;
         ordered[i].resize(pattern.size());
         for (std::size_t j = 0; j < pattern.size(); ++j) {
-            ordered[i][j] = candidates[i][static_cast<std::size_t>(match->mapping[j])];
+            ordered[i][j] = c.vertices[i][static_cast<std::size_t>(match->mapping[j])];
         }
     });
-
     Copies copies;
-    for (std::size_t i = 0; i < candidates.size(); ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
         if (!accepted[i]) continue;
         copies.vertices.push_back(std::move(ordered[i]));
         copies.transforms.push_back(transforms[i]);
     }
     return copies;
+}
+
+Copies search(const GeometricGraph& g, const Adjacency& adj, const Pattern& pattern, const SeedSearchOptions& o,
+              const ProgressCallback& progress) {
+    report(progress, 0.0, "searching for the seed");
+    std::vector<std::vector<VertexId>> candidates = candidates_for(g, adj, pattern, o);
+    report(progress, 0.6, "searching for the seed");
+    // The isomorphism test decides; it also gives the vertex order and the transform.
+    return accept(cut(g, adj, std::move(candidates)), pattern, isomorphism_options(o));
 }
 
 void check_tolerance(const SeedSearchOptions& o) {
@@ -343,6 +408,118 @@ Isogroup find_pattern(const GeometricGraph& g, const Pattern& pattern, const See
     }
     report(progress, 1.0, "searching for the pattern");
     return group;
+}
+
+Pattern mean_pattern(const GeometricGraph& g, const Isogroup& group) {
+    const std::size_t k = group.order();
+    const std::size_t n = group.frequency();
+    Pattern mean = group.pattern;
+    if (n == 0 || k == 0) return mean;
+    std::vector<Vec2> sum(k, Vec2::Zero());
+    double scale_sum = 0.0;
+    std::size_t used = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Similarity2& t = group.transforms[i];
+        const double s = std::hypot(t.a, t.b);
+        if (!(s > 0.0)) continue;
+        const Similarity2 inverse = t.inverse();
+        const std::span<const VertexId> occ = group.occurrence(i);
+        for (std::size_t j = 0; j < k; ++j) sum[j] += inverse.apply(g.positions[static_cast<std::size_t>(occ[j])]);
+        scale_sum += s;
+        ++used;
+    }
+    if (used == 0) return mean;
+    for (Vec2& p : sum) p /= static_cast<double>(used);
+    const Spread spread = spread_of(sum);
+    if (spread.degenerate) return mean;
+    for (Vec2& p : sum) p = (p - spread.centroid) / spread.rms;
+    mean.positions = std::move(sum);
+    // The transforms give metres per unit of the old pattern; the mean's unit is
+    // spread.rms of those.
+    mean.metres_per_unit = scale_sum / static_cast<double>(used) * spread.rms;
+    return mean;
+}
+
+namespace {
+
+// A pattern made exactly as symmetric as it nearly is: each vertex becomes the mean of its
+// images under the pattern's symmetries. Copies of a nearly symmetric pattern (a square
+// block) can be labelled in several ways, and each copy takes the labelling that fits the
+// current estimate best; a skewed estimate would then pick the copies' skews in its own
+// direction and keep its skew for ever.
+Pattern symmetrised(Pattern p, double tolerance) {
+    IsomorphismOptions iso;
+    iso.tolerance = tolerance;
+    const std::vector<IsomorphismMatch> symmetries = geometric_automorphisms(p, iso);
+    if (symmetries.size() < 2) return p;
+    std::vector<Vec2> sum(p.size(), Vec2::Zero());
+    for (const IsomorphismMatch& m : symmetries) {
+        // m.transform takes vertex i near vertex m.mapping[i]; its inverse brings the
+        // partner back onto i.
+        const Similarity2 back = m.transform.inverse();
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            sum[i] += back.apply(p.positions[static_cast<std::size_t>(m.mapping[i])]);
+        }
+    }
+    for (Vec2& q : sum) q /= static_cast<double>(symmetries.size());
+    const Spread spread = spread_of(sum);
+    if (spread.degenerate) return p;
+    for (Vec2& q : sum) q = (q - spread.centroid) / spread.rms;
+    p.positions = std::move(sum);
+    p.metres_per_unit *= spread.rms;
+    return p;
+}
+
+} // namespace
+
+Isogroup find_settled_pattern(const GeometricGraph& g, const Pattern& pattern, const SeedSearchOptions& o,
+                              int max_rounds) {
+    check_tolerance(o);
+    if (const std::string problem = check_pattern(pattern); !problem.empty()) throw UsageError("pattern: " + problem);
+    if (pattern.size() < 2 || pattern.edges.empty()) throw UsageError("pattern: a pattern to search needs an edge");
+    if (spread_of(pattern.positions).degenerate) throw UsageError("pattern: its vertices all lie at one point");
+    const Adjacency adj(g);
+    auto vertex_sets = [](const Copies& copies) {
+        std::vector<std::vector<VertexId>> sets = copies.vertices;
+        for (auto& set : sets) std::sort(set.begin(), set.end());
+        std::sort(sets.begin(), sets.end());
+        return sets;
+    };
+    auto as_group = [](const Pattern& p, const Copies& copies) {
+        Isogroup group;
+        group.pattern = p;
+        for (const auto& v : copies.vertices) group.vertices.insert(group.vertices.end(), v.begin(), v.end());
+        group.transforms = copies.transforms;
+        return group;
+    };
+    const IsomorphismOptions count = isomorphism_options(o);
+    // Every round decides the same candidates, found once in a window a tenth wider than the
+    // tolerance; when the estimate has moved by more than that tenth, they are found again.
+    SeedSearchOptions pool_options = o;
+    pool_options.tolerance = std::min(0.95, 1.1 * o.tolerance);
+    IsomorphismOptions drift = count;
+    drift.mode = IsomorphismOptions::Scale::similarity;
+    drift.tolerance = pool_options.tolerance - o.tolerance;
+
+    Pattern estimate = pattern;
+    Pattern pool_origin = pattern;
+    CutCandidates pool = cut(g, adj, candidates_for(g, adj, estimate, pool_options));
+    Copies copies = accept(pool, estimate, count);
+    std::vector<std::vector<VertexId>> sets = vertex_sets(copies);
+    for (int round = 1; round < max_rounds && !copies.vertices.empty(); ++round) {
+        estimate = symmetrised(mean_pattern(g, as_group(estimate, copies)), o.tolerance);
+        if (!geometrically_isomorphic(pool_origin, estimate, drift)) {
+            pool_origin = estimate;
+            pool = cut(g, adj, candidates_for(g, adj, estimate, pool_options));
+        }
+        Copies next = accept(pool, estimate, count);
+        std::vector<std::vector<VertexId>> next_sets = vertex_sets(next);
+        const bool settled = next_sets == sets;
+        copies = std::move(next);
+        sets = std::move(next_sets);
+        if (settled) break;
+    }
+    return as_group(estimate, copies);
 }
 
 } // namespace ggg

@@ -15,6 +15,7 @@
 
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/error.hpp"
+#include "ggg/measures/network_comparison.hpp"
 #include "ggg/rewriting.hpp"
 
 namespace ggg {
@@ -64,6 +65,41 @@ double distance_to_ring(const std::vector<Vec2>& ring, const Vec2& p) {
         best = std::min(best, (ring[j] + t * d - p).norm());
     }
     return best;
+}
+
+// The area of the block to the left of the street u -> v, walking round it by always taking
+// the sharpest left turn; 0 when the walk does not come back within `max_steps` streets (a
+// block too large to matter, or one that the streets known here do not close) or goes
+// round the outside (clockwise). `neighbours(w)` lists the streets at w.
+template <class Neighbours>
+double block_left_of(const std::vector<Vec2>& positions, Neighbours&& neighbours, VertexId u, VertexId v, std::size_t max_steps = 64) {
+    const VertexId start_u = u, start_v = v;
+    double twice_area = 0.0;
+    for (std::size_t step = 0; step < max_steps; ++step) {
+        const Vec2& pu = positions[static_cast<std::size_t>(u)];
+        const Vec2& pv = positions[static_cast<std::size_t>(v)];
+        twice_area += cross(pu, pv);
+        // At v, the street that turns most to the left, i.e. the first clockwise from v -> u.
+        const Vec2 back = pu - pv;
+        const double back_angle = std::atan2(back.y(), back.x());
+        VertexId next = -1;
+        double best = 0.0;
+        for (VertexId w : neighbours(v)) {
+            const Vec2 d = positions[static_cast<std::size_t>(w)] - pv;
+            double turn = back_angle - std::atan2(d.y(), d.x());
+            while (turn <= 1e-12) turn += 2.0 * M_PI;
+            while (turn > 2.0 * M_PI + 1e-12) turn -= 2.0 * M_PI;
+            if (next < 0 || turn < best) {
+                next = w;
+                best = turn;
+            }
+        }
+        if (next < 0) return 0.0;
+        u = v;
+        v = next;
+        if (u == start_u && v == start_v) return twice_area > 0 ? 0.5 * twice_area : 0.0;
+    }
+    return 0.0;
 }
 
 // A rule derived all the way to streets, at unit size: what one placement adds.
@@ -186,6 +222,16 @@ public:
         if (!grammar_.encoding.empty()) {
             const GeometricGraph city = decode_grammar(grammar_);
             for (const auto& [a, b] : city.edges) streets.emplace_back(city.positions[static_cast<std::size_t>(a)], city.positions[static_cast<std::size_t>(b)]);
+            // No block much smaller than the city's small ones: the smallest tenth of a city's
+            // blocks are mostly slivers (turn lanes, traffic islands), which growth would
+            // otherwise multiply, as rules with blocks are preferred and rules glued side by
+            // side close slivers between them. Six tenths of that quantile leave room for
+            // the placements' size jitter.
+            const std::vector<double> blocks = street_statistics(city).block_areas_m2; // sorted
+            if (o_.smallest_block > 0 && !blocks.empty()) {
+                const auto at = static_cast<std::size_t>(std::min(1.0, o_.smallest_block) * static_cast<double>(blocks.size() - 1));
+                min_block_m2_ = 0.6 * blocks[at];
+            }
         } else {
             for (const Prototype& p : prototypes_) {
                 for (const auto& [a, b] : p.edges) streets.emplace_back(p.positions[static_cast<std::size_t>(a)], p.positions[static_cast<std::size_t>(b)]);
@@ -343,17 +389,21 @@ private:
         return true;
     }
 
-    // No street reaches the region: the most frequent rule goes in its middle, along the
-    // region's long axis.
+    // No street reaches the region: the most frequent rule that fits goes in its middle,
+    // along the region's long axis.
     void seed_at_centre() {
-        const auto best = std::max_element(prototypes_.begin(), prototypes_.end(),
-                                           [](const Prototype& x, const Prototype& y) { return x.weight < y.weight; });
+        std::vector<std::size_t> order(prototypes_.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return prototypes_[x].weight > prototypes_[y].weight; });
         const Vec2 axis = principal_axis();
         const double angle = std::atan2(axis.y(), axis.x());
-        const Vec2 origin = centre_ - Similarity2::from(best->size_m, angle, Vec2::Zero()).apply_linear(best->centroid);
-        ++report_->attempts;
-        if (place(*best, Frame{best->size_m, angle * 180.0 / M_PI}, origin, -1) && best->squareness >= 0.6) {
-            grid_angle_ = wrap_quarter(best->square_angle + angle);
+        for (std::size_t i : order) {
+            const Prototype& p = prototypes_[i];
+            const Vec2 origin = centre_ - Similarity2::from(p.size_m, angle, Vec2::Zero()).apply_linear(p.centroid);
+            ++report_->attempts;
+            if (!place(p, Frame{p.size_m, angle * 180.0 / M_PI}, origin, -1)) continue;
+            if (p.squareness >= 0.6) grid_angle_ = wrap_quarter(p.square_angle + angle);
+            return;
         }
     }
 
@@ -455,6 +505,24 @@ private:
                 }
             }
         }
+        // No new street may close a block smaller than the city's small ones.
+        if (min_block_m2_ > 0) {
+            std::vector<std::vector<VertexId>> around(local.vertex_count());
+            for (const auto& [a, b] : local.edges) {
+                if (local.symbols[static_cast<std::size_t>(a)] || local.symbols[static_cast<std::size_t>(b)]) continue;
+                around[static_cast<std::size_t>(a)].push_back(b);
+                around[static_cast<std::size_t>(b)].push_back(a);
+            }
+            auto neighbours = [&](VertexId w) -> const std::vector<VertexId>& { return around[static_cast<std::size_t>(w)]; };
+            for (const auto& [a, b] : added) {
+                const double left = block_left_of(local.positions, neighbours, a, b);
+                const double right = block_left_of(local.positions, neighbours, b, a);
+                if ((left > 0 && left < min_block_m2_) || (right > 0 && right < min_block_m2_)) {
+                    ++report_->rejected_small_block;
+                    return false;
+                }
+            }
+        }
         // Kept: the new vertices and edges join the graph and the frontier.
         for (std::size_t v : fresh) {
             global[v] = g_.add_vertex(local.positions[v]);
@@ -476,6 +544,18 @@ private:
         ++report_->placements;
         if (anchor >= 0 && static_cast<std::size_t>(anchor) < base_vertices_) ++report_->border_connections;
         return true;
+    }
+
+    // Whether a street from v to w would close a block smaller than the city's small ones.
+    bool closes_small_block(VertexId v, VertexId w) {
+        adjacency_[static_cast<std::size_t>(v)].push_back(w);
+        adjacency_[static_cast<std::size_t>(w)].push_back(v);
+        auto neighbours = [&](VertexId x) -> const std::vector<VertexId>& { return adjacency_[static_cast<std::size_t>(x)]; };
+        const double left = block_left_of(g_.positions, neighbours, v, w);
+        const double right = block_left_of(g_.positions, neighbours, w, v);
+        adjacency_[static_cast<std::size_t>(v)].pop_back();
+        adjacency_[static_cast<std::size_t>(w)].pop_back();
+        return (left > 0 && left < min_block_m2_) || (right > 0 && right < min_block_m2_);
     }
 
     bool crosses(const Vec2& a, const Vec2& b) const {
@@ -515,6 +595,7 @@ private:
                 if (length >= best_d || d.dot(ahead) < 0.7 * length || std::find(n.begin(), n.end(), w) != n.end()) continue;
                 if (!inside(region_, 0.5 * (p + g_.positions[static_cast<std::size_t>(w)]))) continue; // stays in the region
                 if (crosses(p, g_.positions[static_cast<std::size_t>(w)])) continue;
+                if (min_block_m2_ > 0 && closes_small_block(static_cast<VertexId>(v), w)) continue;
                 best = w;
                 best_d = length;
             }
@@ -549,6 +630,7 @@ private:
     std::vector<FrontierEdge> frontier_;
     Vec2 centre_ = Vec2::Zero();
     bool grid_city_ = false;
+    double min_block_m2_ = 0.0; // smallest block a placement may close (0: any)
     std::optional<double> grid_angle_; // the grid the growth keeps to (modulo 90 degrees), once there is one
 };
 

@@ -30,6 +30,7 @@
 // A degenerate pattern (all vertices at one point, e.g. every 1-vertex pattern) is
 // isomorphic only to a degenerate pattern, by topology and symbols alone.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -68,6 +69,26 @@ struct IsomorphismMatch {
 // tolerance that is negative or not finite, and in range mode for bounds that are not
 // 0 < min_scale <= max_scale < infinity.
 std::optional<IsomorphismMatch> geometrically_isomorphic(const Pattern& a, const Pattern& b,
+                                                         const IsomorphismOptions& options = {});
+
+// A pattern prepared once for many comparisons: checked, normalised, its invariants
+// computed. A recount compares one pattern with thousands of candidates, round after round,
+// and the preparation is most of the cost of a comparison that fails. Cheap to copy (the
+// prepared data is shared and never changes). Throws UsageError for a malformed pattern.
+class PreparedPattern {
+public:
+    explicit PreparedPattern(Pattern p);
+    const Pattern& pattern() const;
+
+private:
+    struct Impl;
+    std::shared_ptr<const Impl> impl_;
+    friend std::optional<IsomorphismMatch> geometrically_isomorphic(const PreparedPattern& a, const PreparedPattern& b,
+                                                                    const IsomorphismOptions& options);
+};
+
+// The same test as above, on prepared patterns; the same answer.
+std::optional<IsomorphismMatch> geometrically_isomorphic(const PreparedPattern& a, const PreparedPattern& b,
                                                          const IsomorphismOptions& options = {});
 
 // The symmetries of `p`: every bijection of p onto itself that passes the test above in

@@ -42,4 +42,20 @@ Isogroup find_occurrences(const GeometricGraph& g, std::span<const VertexId> see
 Isogroup find_pattern(const GeometricGraph& g, const Pattern& pattern, const SeedSearchOptions& options = {},
                       const ProgressCallback& progress = {});
 
+// The copies of a pattern, counted so that the count does not depend on where the pattern
+// came from: find_pattern, then the pattern becomes the mean of the copies it found (a
+// Procrustes average, made as symmetric as it nearly is), and so on until the copies no
+// longer change (at most max_rounds rounds). Two estimates of one street pattern, e.g. the
+// means that a pruned and a full analysis reached over different occurrences, settle on the
+// same copies, where a single search around each would count the copies near the
+// tolerance's edge differently. The result's pattern is the estimate its copies were found
+// with (the mean of the previous round's copies). Throws as find_pattern.
+Isogroup find_settled_pattern(const GeometricGraph& g, const Pattern& pattern, const SeedSearchOptions& options = {},
+                              int max_rounds = 12);
+
+// The Procrustes mean of `group`'s occurrences, seen through their transforms, in the
+// canonical frame, with metres_per_unit their mean scale; the pattern itself when the
+// group has no occurrence or the mean collapses to a point.
+Pattern mean_pattern(const GeometricGraph& g, const Isogroup& group);
+
 } // namespace ggg

@@ -9,7 +9,8 @@
 // frontier vertex, in a copy of the streets around it: one of the rule's vertices lands on
 // the frontier vertex and merges with it, and the relaxed embedding joins the rule to the
 // streets it meets. It is kept only if its new streets stay inside the region, cross no
-// street (old or new) and keep their distance from the streets already there; else it is
+// street (old or new), keep their distance from the streets already there and close no
+// block much smaller than the city's small ones; else it is
 // undone and another rule, vertex or direction is tried. Dead ends left at the end are
 // joined to a vertex close ahead of them where that crosses nothing.
 //
@@ -56,6 +57,10 @@ struct GrowOptions {
     double grid_tolerance_deg = 10.0;
     // How much more often a rule with a block (a cycle) is chosen: weight x (1 + this x cycles).
     double block_preference = 1.0;
+    // No placement (and no street closing a dead end) may close a block smaller than six
+    // tenths of this quantile of the blocks of the grammar's city: the city's smallest
+    // blocks are mostly slivers. Learned grammars only, which decode to their city; 0 = any.
+    double smallest_block = 0.1;
     // Join dead ends to a vertex ahead of them within this fraction of the typical edge length.
     double close_dead_ends = 0.8;
     std::vector<RulePlacement> placements; // rules placed by hand, grown from first
@@ -68,6 +73,7 @@ struct GrowReport {
     std::size_t rejected_crossing = 0; // a new street crossing another
     std::size_t rejected_crowded = 0;  // a new vertex too close to another
     std::size_t rejected_off_grid = 0; // a square rule turned off the grid around
+    std::size_t rejected_small_block = 0; // a new street closing a block smaller than the city's
     std::size_t added_vertices = 0;
     std::size_t added_edges = 0;
     std::size_t border_connections = 0; // placements that started from a base street
