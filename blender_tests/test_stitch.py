@@ -128,6 +128,8 @@ def expected(ggg, first, second, seed=1, share=0.5, **options):
     if share < 1.0 and limit < report_a["placements"]:
         alone, report_a = ggg.grow_region(base, parsed_a, GAP, seed=seed, max_placements=limit, **options)
     grown, report_b = ggg.grow_region(alone, parsed_b, GAP, seed=seed + 1, **options)
+    grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count)
+    report_b["hierarchy"] = hierarchy
     return base, grown, report_a, report_b
 
 
@@ -200,7 +202,16 @@ def test_the_two_growths_are_those_of_ggg(sample_city, ggg, reports):
         positions, edges = arrays(first)
         np.testing.assert_allclose(positions, grown.positions, atol=1e-3)
         np.testing.assert_array_equal(edges, grown.edges)
+        # The road classes too: the towns' main roads continued across the gap.
+        highway = mesh_build.read_attribute(first.data, "highway", np.int64)
+        np.testing.assert_array_equal(highway, grown.edge_highway)
         message = reports()[-1][1]
+        hierarchy = report_b["hierarchy"]
+        if hierarchy["routes"] + hierarchy["connectors"]:
+            assert "continued across the gap ({} raised".format(
+                _plural_streets(hierarchy["raised_streets"] + hierarchy["connector_streets"])) in message, message
+        else:
+            assert "across the gap" not in message
         rules_a, rules_b, added, streets, _a, _b = counts_reported(message)
         assert (rules_a, rules_b) == (report_a["placements"], report_b["placements"])
         assert added == grown.vertex_count - base.vertex_count
@@ -210,6 +221,55 @@ def test_the_two_growths_are_those_of_ggg(sample_city, ggg, reports):
             assert report_b["added_vertices"] > 0 and "sample_city: its share ({} of".format(rules_a) in message
         else:
             assert "its share" not in message and "sample_city: region full" in message
+
+
+def _plural_streets(n):
+    return "1 street" if n == 1 else "{:,} streets".format(n)
+
+
+def test_main_roads_continue_across_the_gap(towns, ggg, reports):
+    """The first town's main roads that reach the gap meet the second town's through the
+    grown streets: the grown streets on the way take the main road's class, and each such run
+    of raised streets ends on main roads of the towns."""
+    first, second, region_obj = towns
+    n_edges = len(first.data.edges) + len(second.data.edges)
+    positions_before_a = mesh_build.positions_xy(first.data)
+    highway_before = np.concatenate([mesh_build.read_attribute(o.data, "highway", np.int64) for o in (first, second)])
+    ranks = ggg.highway_ranks()
+    unclassified = ranks[ggg.highway_classes().index("unclassified")]
+    assert bpy.ops.roads.stitch_cities(region=region_obj.name, seed=1) == {'FINISHED'}
+    message = reports()[-1][1]
+    found = re.search(r"(\d+) main roads? continued across the gap \(([\d,]+) streets? raised", message)
+    assert found, message
+    routes, raised = int(found.group(1)), int(found.group(2).replace(",", ""))
+    assert routes >= 1 and raised >= 2
+    positions, edges = arrays(first)
+    highway = mesh_build.read_attribute(first.data, "highway", np.int64)
+    np.testing.assert_array_equal(highway[:n_edges], highway_before)  # the towns' own streets keep theirs
+    main = np.array([ranks[int(c)] <= unclassified for c in highway])
+    main_ends = set(edges[:n_edges][main[:n_edges]].ravel().tolist())
+    new_main = np.flatnonzero(main[n_edges:]) + n_edges
+    assert len(new_main) >= raised
+    # Runs of grown main-road streets: each touches the towns' main roads at two ends or more.
+    parent = {}
+
+    def root(v):
+        while parent.setdefault(v, v) != v:
+            v = parent[v]
+        return v
+
+    for e in new_main:
+        a, b = (int(x) for x in edges[e])
+        parent[root(a)] = root(b)
+    runs = {}
+    for v in list(parent):
+        runs.setdefault(root(v), set()).add(v)
+    joined = [run for run in runs.values() if len(run & main_ends) >= 2]
+    assert len(joined) >= routes
+    # A run joins a main road of the first town to one of the second.
+    n_a = len(positions_before_a)
+    assert any(any(v < n_a for v in run & main_ends) and any(v >= n_a for v in run & main_ends) for run in joined), \
+        [sorted(positions[list(run), 0].round()) for run in joined]
 
 
 def _fresh_towns():

@@ -5,7 +5,8 @@ roads.stitch_cities joins the other selected road graph into the active one (its
 brought into the active object's frame, every edge attribute kept), grows the region with
 the active city's grammar (seed), then again with the other city's (seed + 1) from the
 streets that reach the region, the first city's new ones among them, so that growth from
-both sides meets, writes the result into the active object (graph_edit.Replacement, as
+both sides meets, continues the main roads of both cities through the grown streets
+(ggg.continue_hierarchy), writes the result into the active object (graph_edit.Replacement, as
 Grow into Region does) and removes the other graph object with its surface and displays.
 Everything is computed before the first change: an error leaves the scene as it was.
 """
@@ -284,6 +285,10 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                             result[1]["share_of"] = alone
                     grown, report = result
                     reports.append(report)
+                # Each growth continues the main roads that reach its own streets; across the
+                # seam, those of one city meet those of the other only through the streets of
+                # both growths.
+                grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count)
             except ggg.Error as ex:
                 hint = " (or turn off Use Placed Rules)" if isinstance(ex, ggg.UsageError) and self.use_placed_rules \
                     else ""
@@ -295,7 +300,8 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                 reports[-1]["placements"] += first_placed["placements"]
                 for key in ("added_vertices", "added_edges"):
                     reports[-1][key] += first_placed[key]
-            added = sum(report["added_vertices"] for report in reports)
+            # (The main roads' connectors add streets and intersections after the growths.)
+            added = grown.vertex_count - base.vertex_count
             if added == 0:
                 self.report({'WARNING'}, "Nothing grew in {} between {} and {}: no rule fits there ({}: {}). The "
                             "scene is unchanged.".format(region_obj.name, active.name, other.name,
@@ -313,7 +319,7 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                                                  _class_widths(context, ggg, result))
             # The new streets that end on a vertex of either city.
             edges = np.asarray(result.edges, dtype=np.int64).reshape(-1, 2)
-            new_edges = sum(report["added_edges"] for report in reports)
+            new_edges = grown.edge_count - base.edge_count
             ends = source[edges[len(edges) - new_edges:]]
             from_a = int(np.count_nonzero(((ends >= 0) & (ends < n_a)).any(axis=1)))
             from_b = int(np.count_nonzero(((ends >= n_a) & (ends < n_a + n_b)).any(axis=1)))
@@ -328,7 +334,7 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
             context.view_layer.objects.active = active
             progress.step(1.0, "done")
         counts = {"passes": reports, "added_vertices": added, "added_edges": new_edges, "from_a": from_a,
-                  "from_b": from_b, "placed": len(used)}
+                  "from_b": from_b, "placed": len(used), "hierarchy": hierarchy}
         return counts, left
 
     def _summary(self, name_a, name_b, region_obj, counts):
@@ -341,6 +347,15 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                                name_b)]
         if counts["placed"]:
             parts.append("{} grown".format(_plural(counts["placed"], "placed rule")))
+        hierarchy = counts["hierarchy"]
+        joined = hierarchy["routes"] + hierarchy["connectors"]
+        if joined:
+            part = "{} continued across the gap ({} raised to their class".format(
+                _plural(joined, "main road"), _plural(hierarchy["raised_streets"] + hierarchy["connector_streets"],
+                                                       "street"))
+            if hierarchy["intersections"]:
+                part += ", {} new".format(_plural(hierarchy["intersections"], "intersection"))
+            parts.append(part + ")")
         ends = []
         for name, report in zip((name_a, name_b), passes):
             if "share_of" in report:

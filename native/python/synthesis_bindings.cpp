@@ -10,6 +10,7 @@
 #include "ggg/analyzer.hpp"
 #include "ggg/synthesis/growth.hpp"
 #include "ggg/synthesis/replacement.hpp"
+#include "ggg/synthesis/street_hierarchy.hpp"
 
 namespace ggg::python {
 
@@ -71,6 +72,10 @@ void bind_synthesis(py::module_& m) {
             d["rejected_crowded"] = report.rejected_crowded;
             d["rejected_off_grid"] = report.rejected_off_grid;
             d["rejected_small_block"] = report.rejected_small_block;
+            d["main_road_routes"] = report.main_road_routes;
+            d["raised_streets"] = report.raised_streets;
+            d["main_road_connectors"] = report.main_road_connectors;
+            d["intersections"] = report.intersections;
             d["grid"] = report.grid;
             d["filled"] = report.filled;
             d["stopped_by_budget"] = report.stopped_by_budget;
@@ -84,6 +89,32 @@ void bind_synthesis(py::module_& m) {
         "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. border_m: how near the region a base\n"
         "street must end to be grown from (< 0: 5 % of the region's size). Returns (Graph, report dict): the base\n"
         "with the grown streets after its own vertices and edges. Deterministic for a seed.");
+
+    m.def(
+        "continue_hierarchy",
+        [](const GeometricGraph& g, std::int64_t first_new_edge, double max_detour) {
+            GeometricGraph out = g;
+            HierarchyOptions o;
+            o.max_detour = max_detour;
+            HierarchyReport report;
+            {
+                py::gil_scoped_release release;
+                report = continue_hierarchy(out, static_cast<EdgeId>(first_new_edge), o);
+            }
+            py::dict d;
+            d["main_roads"] = report.main_roads;
+            d["routes"] = report.routes;
+            d["raised_streets"] = report.raised_streets;
+            d["connectors"] = report.connectors;
+            d["connector_streets"] = report.connector_streets;
+            d["intersections"] = report.intersections;
+            return py::make_tuple(std::move(out), d);
+        },
+        py::arg("graph"), py::arg("first_new_edge"), py::arg("max_detour") = HierarchyOptions{}.max_detour,
+        "Continue the main roads that reach the grown streets (edges from first_new_edge on) through them: each is\n"
+        "joined to another main road as directly as the grown streets allow (at most max_detour times the straight\n"
+        "line), and the grown streets on the way take the less important of the two classes. grow_region does this\n"
+        "itself; call it again after several growths into one region (Stitch Cities). Returns (Graph, report dict).");
 
     using IndexArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
     m.def(

@@ -52,3 +52,28 @@ def test_replace_squares_by_plazas():
         ggg.replace_isogroup(g, best, ring, np.array([[0, 99]]))
     with pytest.raises(ggg.UsageError):
         ggg.replace_isogroup(g, best, ring, edges, occurrences=np.array([0, 0]))
+
+
+def test_continue_hierarchy_joins_facing_main_roads():
+    """Two secondary roads facing each other across a grown north-south street: a straight
+    secondary joins them, and the grown street gets an intersection where it is crossed."""
+    classes = ggg.highway_classes()
+    secondary, residential = classes.index("secondary"), classes.index("residential")
+    positions = np.array([[-200, 200], [0, 200], [800, 200], [600, 200],   # the two roads
+                          [0, 300], [600, 100], [300, 0], [300, 400]], float)  # grown
+    edges = np.array([[0, 1], [2, 3], [1, 4], [3, 5], [6, 7]])
+    highway = np.array([secondary, secondary, residential, residential, residential])
+    g = ggg.Graph.from_arrays(positions, edges, edge_highway=highway)
+    out, report = ggg.continue_hierarchy(g, 2)
+    assert report == {"main_roads": 2, "routes": 0, "raised_streets": 0, "connectors": 1,
+                      "connector_streets": 2, "intersections": 1}
+    assert out.vertex_count == 9 and out.edge_count == 8
+    np.testing.assert_allclose(out.positions[8], [300.0, 200.0])
+    assert np.array_equal(out.edges[:2], edges[:2]) and np.array_equal(out.edge_highway[:5], highway)
+    assert (out.edge_highway[6:] == secondary).all() and out.edge_highway[5] == residential
+    assert np.count_nonzero((out.edges == 8).any(axis=1)) == 4
+    assert np.array_equal(g.edges, edges)  # the input is not changed
+    with pytest.raises(ggg.UsageError):
+        ggg.continue_hierarchy(g, 9)
+    with pytest.raises(ggg.UsageError):
+        ggg.continue_hierarchy(g, 2, max_detour=0.5)

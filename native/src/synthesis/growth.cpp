@@ -17,6 +17,7 @@
 #include "ggg/error.hpp"
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/rewriting.hpp"
+#include "ggg/synthesis/street_hierarchy.hpp"
 
 namespace ggg {
 namespace {
@@ -285,6 +286,13 @@ public:
         }
         report.filled = !report.stopped_by_budget;
         close_dead_ends();
+        if (o_.continue_hierarchy) {
+            const HierarchyReport h = continue_hierarchy(g_, static_cast<EdgeId>(base_edges_));
+            report.main_road_routes = h.routes;
+            report.raised_streets = h.raised_streets;
+            report.main_road_connectors = h.connectors;
+            report.intersections = h.intersections;
+        }
         report.added_vertices = g_.vertex_count() - base_vertices_;
         report.added_edges = g_.edge_count() - base_edges_;
         ggg::report(progress_, 1.0, "done");
@@ -415,12 +423,12 @@ private:
         Frame frame = placed.frame;
         if (!(frame.scale > 0)) frame.scale = it->size_m;
         ++report_->attempts;
-        place(*it, frame, placed.position, -1);
+        place(*it, frame, placed.position, -1, /*by_hand=*/true);
     }
 
     // Derives the rule at `origin` in a copy of the streets around it and keeps the result
     // if it fits. True when it was kept.
-    bool place(const Prototype& p, const Frame& frame, const Vec2& origin, VertexId anchor) {
+    bool place(const Prototype& p, const Frame& frame, const Vec2& origin, VertexId anchor, bool by_hand = false) {
         const Similarity2 f = frame.at(origin);
         const double reach = frame.scale * (p.radius + (p.centroid).norm()) + 2.0 * frame.scale * p.edge_length;
         const Vec2 middle = f.apply(p.centroid);
@@ -505,8 +513,9 @@ private:
                 }
             }
         }
-        // No new street may close a block smaller than the city's small ones.
-        if (min_block_m2_ > 0) {
+        // No new street may close a block smaller than the city's small ones (a rule placed
+        // by hand has the size its user gave it).
+        if (min_block_m2_ > 0 && !by_hand) {
             std::vector<std::vector<VertexId>> around(local.vertex_count());
             for (const auto& [a, b] : local.edges) {
                 if (local.symbols[static_cast<std::size_t>(a)] || local.symbols[static_cast<std::size_t>(b)]) continue;

@@ -12,7 +12,8 @@
 // street (old or new), keep their distance from the streets already there and close no
 // block much smaller than the city's small ones; else it is
 // undone and another rule, vertex or direction is tried. Dead ends left at the end are
-// joined to a vertex close ahead of them where that crosses nothing.
+// joined to a vertex close ahead of them where that crosses nothing, and the main roads
+// that reach the grown streets are continued through them (street_hierarchy.hpp).
 //
 // Deterministic: the same inputs and seed give the same streets.
 #include <cstddef>
@@ -63,6 +64,8 @@ struct GrowOptions {
     double smallest_block = 0.1;
     // Join dead ends to a vertex ahead of them within this fraction of the typical edge length.
     double close_dead_ends = 0.8;
+    // Main roads that reach the grown streets continue through them (street_hierarchy.hpp).
+    bool continue_hierarchy = true;
     std::vector<RulePlacement> placements; // rules placed by hand, grown from first
 };
 
@@ -78,6 +81,10 @@ struct GrowReport {
     std::size_t added_edges = 0;
     std::size_t border_connections = 0; // placements that started from a base street
     std::size_t closing_edges = 0;      // dead ends joined at the end
+    std::size_t main_road_routes = 0;   // main roads joined through the grown streets
+    std::size_t raised_streets = 0;     // grown streets on those routes, now of a main road's class
+    std::size_t main_road_connectors = 0; // main roads joined by a straight new main road
+    std::size_t intersections = 0;      // grown streets split where such a connector crosses
     bool grid = false;                 // the grammar's city is a grid: square rules kept to one
     bool filled = false;               // stopped because nothing more fits (or no frontier left)
     bool stopped_by_budget = false;    // stopped at max_placements or max_vertices

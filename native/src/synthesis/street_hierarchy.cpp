@@ -1,0 +1,320 @@
+// Main roads continued through grown streets; see street_hierarchy.hpp.
+#include "ggg/synthesis/street_hierarchy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <tuple>
+#include <queue>
+#include <unordered_map>
+#include <vector>
+
+#include "ggg/error.hpp"
+#include "ggg/highway.hpp"
+
+namespace ggg {
+
+namespace {
+
+bool main_road_class(HighwayClass c) {
+    return highway_rank(c) <= highway_rank(HighwayClass::unclassified) && c != HighwayClass::motorway_link &&
+           c != HighwayClass::trunk_link && c != HighwayClass::primary_link && c != HighwayClass::secondary_link &&
+           c != HighwayClass::tertiary_link;
+}
+
+struct MainRoad {
+    VertexId vertex = -1;
+    HighwayClass highway = HighwayClass::other;
+    int local = -1; // index among the grown streets' vertices
+    std::vector<Vec2> headings; // unit directions in which its main streets arrive at it
+};
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Where segment pq meets segment ab: (t along pq, u along ab), or nothing when they are
+// parallel or miss each other.
+std::optional<std::pair<double, double>> meeting(const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b) {
+    const Vec2 r = q - p, s = b - a;
+    const double d = cross(r, s);
+    if (std::abs(d) <= 1e-12 * r.norm() * s.norm()) return std::nullopt;
+    const double t = cross(a - p, s) / d;
+    const double u = cross(a - p, r) / d;
+    if (t < 0.0 || t > 1.0 || u < 0.0 || u > 1.0) return std::nullopt;
+    return std::pair{t, u};
+}
+
+double distance_to_segment(const Vec2& x, const Vec2& p, const Vec2& q) {
+    const Vec2 d = q - p;
+    const double t = std::clamp((x - p).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+    return (p + t * d - x).norm();
+}
+
+// A straight main road from s to t, made of the pieces between the grown streets it crosses
+// (each crossing becomes an intersection). Nothing when it would cross a street that the
+// growth started from, or pass too close to a vertex that it does not go through.
+struct Connector {
+    std::vector<std::pair<double, VertexId>> through; // grown vertices it passes, by t
+    std::vector<std::tuple<double, std::size_t, Vec2>> splits; // (t, grown edge, where)
+};
+
+std::optional<Connector> plan_connector(const GeometricGraph& g, std::size_t first, VertexId s, VertexId t,
+                                        double clearance) {
+    const Vec2 p = g.positions[static_cast<std::size_t>(s)];
+    const Vec2 q = g.positions[static_cast<std::size_t>(t)];
+    Connector c;
+    std::vector<char> through(g.vertex_count(), 0);
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        const auto [a, b] = g.edges[e];
+        if (a == s || b == s || a == t || b == t) continue;
+        const Vec2* points = g.geometry_begin(static_cast<EdgeId>(e));
+        const std::size_t n = g.geometry_size(static_cast<EdgeId>(e));
+        for (std::size_t i = 0; i + 1 < n; ++i) {
+            const auto m = meeting(p, q, points[i], points[i + 1]);
+            if (!m) continue;
+            if (e < first) return std::nullopt; // through a street of a city
+            if (n != 2) return std::nullopt;    // (grown streets are straight)
+            const double length = (points[1] - points[0]).norm();
+            const double along = m->second * length;
+            if (along <= clearance || length - along <= clearance) {
+                const VertexId v = along <= clearance ? a : b;
+                if (!through[static_cast<std::size_t>(v)]) {
+                    through[static_cast<std::size_t>(v)] = 1;
+                    c.through.push_back({m->first, v});
+                }
+            } else {
+                c.splits.push_back({m->first, e, p + m->first * (q - p)});
+            }
+        }
+    }
+    // No vertex close beside it that it does not go through: that would be a sliver.
+    for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+        if (static_cast<VertexId>(v) == s || static_cast<VertexId>(v) == t || through[v]) continue;
+        if (distance_to_segment(g.positions[v], p, q) < clearance) return std::nullopt;
+    }
+    return c;
+}
+
+} // namespace
+
+HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, const HierarchyOptions& o) {
+    if (first_new_edge < 0 || static_cast<std::size_t>(first_new_edge) > g.edge_count()) {
+        throw UsageError("continue_hierarchy: the first grown street " + std::to_string(first_new_edge) +
+                         " is not an edge of the graph (" + std::to_string(g.edge_count()) + " edges)");
+    }
+    if (!(o.max_detour >= 1.0)) throw UsageError("continue_hierarchy: the largest detour must be at least 1");
+    HierarchyReport report;
+    const auto first = static_cast<std::size_t>(first_new_edge);
+    if (first == g.edge_count()) return report;
+
+    // The grown streets as their own small graph.
+    std::unordered_map<VertexId, int> local_of;
+    std::vector<VertexId> global_of;
+    auto local = [&](VertexId v) {
+        const auto [it, added] = local_of.emplace(v, static_cast<int>(global_of.size()));
+        if (added) global_of.push_back(v);
+        return it->second;
+    };
+    std::vector<std::vector<std::pair<int, std::size_t>>> around; // (neighbour, edge)
+    std::map<int, std::size_t> class_counts;                      // rank -> grown streets
+    for (std::size_t e = first; e < g.edge_count(); ++e) {
+        const int a = local(g.edges[e][0]);
+        const int b = local(g.edges[e][1]);
+        around.resize(global_of.size());
+        around[static_cast<std::size_t>(a)].push_back({b, e});
+        around[static_cast<std::size_t>(b)].push_back({a, e});
+        ++class_counts[highway_rank(g.edge_highway[e])];
+    }
+    int usual_rank = 0;
+    std::size_t most = 0;
+    for (const auto& [rank, count] : class_counts) {
+        if (count > most) {
+            most = count;
+            usual_rank = rank;
+        }
+    }
+
+    // The main roads that reach the grown streets: their most important street there.
+    std::vector<MainRoad> roads;
+    std::unordered_map<VertexId, std::size_t> road_at;
+    for (std::size_t e = 0; e < first; ++e) {
+        const HighwayClass c = g.edge_highway[e];
+        if (!main_road_class(c) || highway_rank(c) >= usual_rank) continue;
+        for (VertexId v : g.edges[e]) {
+            const auto it = local_of.find(v);
+            if (it == local_of.end()) continue;
+            const auto [at, added] = road_at.emplace(v, roads.size());
+            if (added) {
+                roads.push_back({v, c, it->second, {}});
+            } else if (highway_rank(c) < highway_rank(roads[at->second].highway)) {
+                roads[at->second].highway = c;
+            }
+            const VertexId other = g.edges[e][0] == v ? g.edges[e][1] : g.edges[e][0];
+            const Vec2 heading = g.positions[static_cast<std::size_t>(v)] - g.positions[static_cast<std::size_t>(other)];
+            if (heading.norm() > 0) roads[at->second].headings.push_back(heading.normalized());
+        }
+    }
+    report.main_roads = roads.size();
+    if (roads.size() < 2) return report;
+    std::stable_sort(roads.begin(), roads.end(), [](const MainRoad& x, const MainRoad& y) {
+        if (highway_rank(x.highway) != highway_rank(y.highway)) return highway_rank(x.highway) < highway_rank(y.highway);
+        return x.vertex < y.vertex;
+    });
+    std::vector<int> road_of_local(global_of.size(), -1);
+    for (std::size_t r = 0; r < roads.size(); ++r) road_of_local[static_cast<std::size_t>(roads[r].local)] = static_cast<int>(r);
+    // Two main roads already joined by one street (the same road passing the region).
+    std::vector<std::pair<VertexId, VertexId>> joined;
+    for (std::size_t e = 0; e < first; ++e) {
+        const auto [a, b] = g.edges[e];
+        if (road_at.count(a) && road_at.count(b)) joined.push_back({std::min(a, b), std::max(a, b)});
+    }
+    std::sort(joined.begin(), joined.end());
+    auto joined_already = [&](VertexId u, VertexId v) {
+        return std::binary_search(joined.begin(), joined.end(), std::pair<VertexId, VertexId>{std::min(u, v), std::max(u, v)});
+    };
+
+    std::vector<char> used(roads.size(), 0);
+    const std::size_t n = global_of.size();
+    std::vector<double> distance(n);
+    std::vector<std::size_t> via(n);
+    for (std::size_t s = 0; s < roads.size(); ++s) {
+        if (used[s]) continue;
+        // Shortest routes through the grown streets from this main road.
+        std::fill(distance.begin(), distance.end(), std::numeric_limits<double>::infinity());
+        using Item = std::pair<double, int>;
+        std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+        distance[static_cast<std::size_t>(roads[s].local)] = 0.0;
+        queue.push({0.0, roads[s].local});
+        while (!queue.empty()) {
+            const auto [d, x] = queue.top();
+            queue.pop();
+            if (d > distance[static_cast<std::size_t>(x)]) continue;
+            // A route ends at a main road: it does not run on through it.
+            if (x != roads[s].local && road_of_local[static_cast<std::size_t>(x)] >= 0) continue;
+            for (const auto& [y, e] : around[static_cast<std::size_t>(x)]) {
+                const double nd = d + g.edge_length(static_cast<EdgeId>(e));
+                if (nd < distance[static_cast<std::size_t>(y)]) {
+                    distance[static_cast<std::size_t>(y)] = nd;
+                    via[static_cast<std::size_t>(y)] = e;
+                    queue.push({nd, y});
+                }
+            }
+        }
+        // The farthest main road reached directly enough: a route across the grown streets
+        // rather than round a corner of them.
+        int best = -1;
+        double best_straight = 0.0;
+        const Vec2 from = g.positions[static_cast<std::size_t>(roads[s].vertex)];
+        for (std::size_t t = 0; t < roads.size(); ++t) {
+            if (t == s || used[t]) continue;
+            const double d = distance[static_cast<std::size_t>(roads[t].local)];
+            if (!std::isfinite(d)) continue;
+            const double straight = (g.positions[static_cast<std::size_t>(roads[t].vertex)] - from).norm();
+            if (!(straight > 0.0) || d > o.max_detour * straight) continue;
+            if (joined_already(roads[s].vertex, roads[t].vertex)) continue;
+            if (straight > best_straight) {
+                best = static_cast<int>(t);
+                best_straight = straight;
+            }
+        }
+        if (best < 0) continue;
+        used[s] = used[static_cast<std::size_t>(best)] = 1;
+        ++report.routes;
+        const HighwayClass c = highway_rank(roads[s].highway) >= highway_rank(roads[static_cast<std::size_t>(best)].highway)
+                                   ? roads[s].highway
+                                   : roads[static_cast<std::size_t>(best)].highway;
+        for (int x = roads[static_cast<std::size_t>(best)].local; x != roads[s].local;) {
+            const std::size_t e = via[static_cast<std::size_t>(x)];
+            if (highway_rank(c) < highway_rank(g.edge_highway[e])) {
+                g.edge_highway[e] = c;
+                g.edge_lanes[e] = 0;
+                g.edge_width_m[e] = std::numeric_limits<double>::quiet_NaN();
+                ++report.raised_streets;
+            }
+            const int a = local_of.at(g.edges[e][0]);
+            x = a == x ? local_of.at(g.edges[e][1]) : a;
+        }
+    }
+
+    // Main roads that face each other across the grown streets with no route between them
+    // are joined by a straight main road, which crosses the grown streets at new
+    // intersections.
+    if (o.max_connector_m <= 0) return report;
+    const double facing = std::cos(o.max_connector_turn_deg * M_PI / 180.0);
+    auto faces = [&](const MainRoad& from, const Vec2& towards) {
+        for (const Vec2& h : from.headings) {
+            if (h.dot(towards) >= facing) return true;
+        }
+        return false;
+    };
+    for (std::size_t s = 0; s < roads.size(); ++s) {
+        if (used[s]) continue;
+        const Vec2 from = g.positions[static_cast<std::size_t>(roads[s].vertex)];
+        // The nearest main road that it faces and that faces it.
+        std::vector<std::pair<double, std::size_t>> candidates;
+        for (std::size_t t = 0; t < roads.size(); ++t) {
+            if (t == s || used[t]) continue;
+            const Vec2 d = g.positions[static_cast<std::size_t>(roads[t].vertex)] - from;
+            const double length = d.norm();
+            if (!(length > 0.0) || length > o.max_connector_m) continue;
+            if (!faces(roads[s], d / length) || !faces(roads[t], -d / length)) continue;
+            if (joined_already(roads[s].vertex, roads[t].vertex)) continue;
+            candidates.push_back({length, t});
+        }
+        std::sort(candidates.begin(), candidates.end());
+        for (const auto& [length, t] : candidates) {
+            const std::optional<Connector> plan = plan_connector(g, first, roads[s].vertex, roads[t].vertex, o.clearance_m);
+            if (!plan) continue;
+            const HighwayClass c = highway_rank(roads[s].highway) >= highway_rank(roads[t].highway) ? roads[s].highway
+                                                                                                : roads[t].highway;
+            std::vector<std::pair<double, VertexId>> chain = plan->through;
+            for (const auto& [at, e, where] : plan->splits) {
+                // The grown street e = (a, b) becomes (a, x) and (x, b).
+                const VertexId x = g.add_vertex(where);
+                const VertexId b = g.edges[e][1];
+                const EdgeAttributes attributes = g.edge_attributes(static_cast<EdgeId>(e));
+                g.edges[e][1] = x;
+                g.geometry[static_cast<std::size_t>(g.geometry_offsets[e + 1] - 1)] = where;
+                g.add_edge(x, b, attributes);
+                chain.push_back({at, x});
+                ++report.intersections;
+            }
+            chain.push_back({0.0, roads[s].vertex});
+            chain.push_back({1.0, roads[t].vertex});
+            std::sort(chain.begin(), chain.end());
+            // Pieces that are streets already (the connector runs along a grown street) are
+            // raised instead of doubled.
+            std::map<std::pair<VertexId, VertexId>, std::size_t> existing;
+            std::vector<char> on_chain(g.vertex_count(), 0);
+            for (const auto& [at, v] : chain) on_chain[static_cast<std::size_t>(v)] = 1;
+            for (std::size_t e = 0; e < g.edge_count(); ++e) {
+                const auto [a, b] = g.edges[e];
+                if (on_chain[static_cast<std::size_t>(a)] && on_chain[static_cast<std::size_t>(b)]) {
+                    existing[{std::min(a, b), std::max(a, b)}] = e;
+                }
+            }
+            EdgeAttributes attributes;
+            attributes.highway = c;
+            for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
+                const VertexId a = chain[i].second, b = chain[i + 1].second;
+                const auto it = existing.find({std::min(a, b), std::max(a, b)});
+                if (it == existing.end()) {
+                    g.add_edge(a, b, attributes);
+                    ++report.connector_streets;
+                } else if (it->second >= first && highway_rank(c) < highway_rank(g.edge_highway[it->second])) {
+                    g.edge_highway[it->second] = c;
+                    g.edge_lanes[it->second] = 0;
+                    g.edge_width_m[it->second] = std::numeric_limits<double>::quiet_NaN();
+                    ++report.raised_streets;
+                }
+            }
+            used[s] = used[t] = 1;
+            ++report.connectors;
+            break;
+        }
+    }
+    return report;
+}
+
+} // namespace ggg
