@@ -108,15 +108,30 @@ def stitch_figure(out):
     gap_east = gap_west + [400.0, 0.0]
     step1, r1 = ggg.grow_region(both, grid_rules, gap_west, seed=1, border_m=150.0)
     step2, r2 = ggg.grow_region(step1, old_rules, gap_east, seed=1, border_m=150.0)
+    # The main roads of both cities continued across the whole gap (both growths).
+    gap = np.array([[600.0, -600.0], [1400.0, -600.0], [1400.0, 600.0], [600.0, 600.0]])
+    step3, hierarchy = ggg.continue_hierarchy(step2, both.edge_count, region=gap, border_m=150.0)
+    ranks = np.array(ggg.highway_ranks())
+    main_rank = ranks[ggg.highway_classes().index("tertiary")]
     fig, ax = plt.subplots(figsize=(13, 5.6))
-    draw(ax, step2, 0, west.edge_count, "#c0392b")
-    draw(ax, step2, west.edge_count, both.edge_count, "#2471a3")
-    draw(ax, step2, both.edge_count, step1.edge_count, "#e59866", lw=1.4)
-    draw(ax, step2, step1.edge_count, None, "#7fb3d5", lw=1.4)
+    for first, last, colour in ((0, west.edge_count, "#c0392b"), (west.edge_count, both.edge_count, "#2471a3")):
+        main = ranks[step3.edge_highway[first:last]] <= main_rank
+        edges = step3.edges[first:last]
+        ax.add_collection(LineCollection(step3.positions[edges[~main]], colors=colour, linewidths=0.8))
+        ax.add_collection(LineCollection(step3.positions[edges[main]], colors=colour, linewidths=2.0))
+    draw(ax, step3, both.edge_count, step1.edge_count, "#e59866", lw=1.4)
+    draw(ax, step3, step1.edge_count, step2.edge_count, "#7fb3d5", lw=1.4)
+    draw(ax, step3, step2.edge_count, None, "#7fb3d5", lw=1.4)  # (second halves of split streets)
+    changed = np.flatnonzero(step3.edge_highway[both.edge_count:step2.edge_count] !=
+                             step2.edge_highway[both.edge_count:]) + both.edge_count
+    connectors = np.arange(step2.edge_count, step3.edge_count)
+    continued = np.concatenate([changed, connectors[ranks[step3.edge_highway[connectors]] <= main_rank]])
+    ax.add_collection(LineCollection(step3.positions[step3.edges[continued]], colors="#1e8449", linewidths=2.6))
     for gap in (gap_west, gap_east):
         ax.plot(*np.vstack([gap, gap[:1]]).T, color="#999999", ls="--", lw=0.8)
     frame(ax, (-650, -650), (2650, 650), "Barcelona (red) and Paris (blue), the gap grown with the rules of each "
-          "({} and {} rules placed)".format(r1["placements"], r2["placements"]))
+          "({} and {} rules placed); main roads thick, continued across the gap in green ({} joined)".format(
+              r1["placements"], r2["placements"], hierarchy["routes"] + hierarchy["connectors"]))
     fig.text(0.99, 0.01, CREDIT, ha="right", fontsize=7, color="#666666")
     fig.tight_layout()
     fig.savefig(out, dpi=110, metadata=PNG_METADATA)

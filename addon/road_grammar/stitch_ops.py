@@ -21,6 +21,12 @@ from .grammar_ops import _ThrottledProgress, _class_widths, _plural, _rejections
 from .grammar_ops import GrowSettings, region_object, region_polygon
 
 
+def _extent(polygon):
+    """The largest distance of a corner from the corners' mean (growth's 5 % border is of it)."""
+    corners = np.asarray(polygon, dtype=np.float64)
+    return float(np.linalg.norm(corners - corners.mean(axis=0), axis=1).max())
+
+
 def selected_graphs(context, other_name=""):
     """(active road graph or None, the other road graphs: the one named, else the selected
     ones that are not the active one)."""
@@ -288,7 +294,8 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                 # Each growth continues the main roads that reach its own streets; across the
                 # seam, those of one city meet those of the other only through the streets of
                 # both growths.
-                grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count)
+                grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count, region=polygon,
+                                                          border_m=0.05 * _extent(polygon))
             except ggg.Error as ex:
                 hint = " (or turn off Use Placed Rules)" if isinstance(ex, ggg.UsageError) and self.use_placed_rules \
                     else ""
@@ -354,7 +361,7 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                 _plural(joined, "main road"), _plural(hierarchy["raised_streets"] + hierarchy["connector_streets"],
                                                        "street"))
             if hierarchy["intersections"]:
-                part += ", {} new".format(_plural(hierarchy["intersections"], "intersection"))
+                part += ", {}".format(_plural(hierarchy["intersections"], "new intersection"))
             parts.append(part + ")")
         ends = []
         for name, report in zip((name_a, name_b), passes):

@@ -153,6 +153,7 @@ int main(int argc, char** argv) {
                                         {"added_edges", report.added_edges},
                                         {"border_connections", report.border_connections},
                                         {"closing_edges", report.closing_edges},
+                                        {"t_junctions", report.t_junctions},
                                         {"main_road_routes", report.main_road_routes},
                                         {"raised_streets", report.raised_streets},
                                         {"main_road_connectors", report.main_road_connectors},

@@ -67,6 +67,7 @@ void bind_synthesis(py::module_& m) {
             d["added_edges"] = report.added_edges;
             d["border_connections"] = report.border_connections;
             d["closing_edges"] = report.closing_edges;
+            d["t_junctions"] = report.t_junctions;
             d["rejected_outside"] = report.rejected_outside;
             d["rejected_crossing"] = report.rejected_crossing;
             d["rejected_crowded"] = report.rejected_crowded;
@@ -92,10 +93,19 @@ void bind_synthesis(py::module_& m) {
 
     m.def(
         "continue_hierarchy",
-        [](const GeometricGraph& g, std::int64_t first_new_edge, double max_detour) {
+        [](const GeometricGraph& g, std::int64_t first_new_edge, double max_detour, std::optional<DoubleArray> region,
+           double border_m) {
             GeometricGraph out = g;
             HierarchyOptions o;
             o.max_detour = max_detour;
+            if (region) {
+                if (region->ndim() != 2 || region->shape(1) != 2 || region->shape(0) < 3) {
+                    throw UsageError("region must have shape (N, 2), N >= 3: the polygon's corners in metres");
+                }
+                const auto r = region->unchecked<2>();
+                for (py::ssize_t i = 0; i < r.shape(0); ++i) o.region.emplace_back(r(i, 0), r(i, 1));
+                o.border_m = border_m;
+            }
             HierarchyReport report;
             {
                 py::gil_scoped_release release;
@@ -111,10 +121,13 @@ void bind_synthesis(py::module_& m) {
             return py::make_tuple(std::move(out), d);
         },
         py::arg("graph"), py::arg("first_new_edge"), py::arg("max_detour") = HierarchyOptions{}.max_detour,
+        py::arg("region") = py::none(), py::arg("border_m") = 0.0,
         "Continue the main roads that reach the grown streets (edges from first_new_edge on) through them: each is\n"
         "joined to another main road as directly as the grown streets allow (at most max_detour times the straight\n"
         "line), and the grown streets on the way take the less important of the two classes. grow_region does this\n"
-        "itself; call it again after several growths into one region (Stitch Cities). Returns (Graph, report dict).");
+        "itself; call it again after several growths into one region (Stitch Cities). region ((N,2), optional): the\n"
+        "region grown into; main roads that end in it (or within border_m) count even where no grown street reaches\n"
+        "them, and straight connectors stay in it. Returns (Graph, report dict).");
 
     using IndexArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
     m.def(

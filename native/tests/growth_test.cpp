@@ -96,6 +96,31 @@ TEST(Growth, StaysInsideCrossesNothingAndKeepsTheBase) {
         joined += static_cast<std::size_t>(grown.edges[e][0]) < t.graph.vertex_count() || static_cast<std::size_t>(grown.edges[e][1]) < t.graph.vertex_count();
     }
     EXPECT_GT(joined, 0u);
+    // Dead ends with a grown street close ahead were joined to it at a T-junction: a grown
+    // vertex of degree 3 on a straight line between two of its streets, and every street's
+    // polyline still ends on its vertices.
+    EXPECT_GT(report.t_junctions, 0u);
+    std::vector<std::vector<VertexId>> around(grown.vertex_count());
+    for (const auto& [a, b] : grown.edges) {
+        around[static_cast<std::size_t>(a)].push_back(b);
+        around[static_cast<std::size_t>(b)].push_back(a);
+    }
+    std::size_t straight_junctions = 0;
+    for (std::size_t v = t.graph.vertex_count(); v < grown.vertex_count(); ++v) {
+        if (around[v].size() != 3) continue;
+        const Vec2 p = grown.positions[v];
+        for (std::size_t i = 0; i < 3; ++i) {
+            const Vec2 a = grown.positions[static_cast<std::size_t>(around[v][i])] - p;
+            const Vec2 b = grown.positions[static_cast<std::size_t>(around[v][(i + 1) % 3])] - p;
+            if (a.normalized().dot(b.normalized()) < -0.999999) ++straight_junctions;
+        }
+    }
+    EXPECT_GE(straight_junctions, report.t_junctions);
+    for (std::size_t e = 0; e < grown.edge_count(); ++e) {
+        const Vec2* p = grown.geometry_begin(static_cast<EdgeId>(e));
+        ASSERT_EQ(p[0], grown.positions[static_cast<std::size_t>(grown.edges[e][0])]);
+        ASSERT_EQ(p[grown.geometry_size(static_cast<EdgeId>(e)) - 1], grown.positions[static_cast<std::size_t>(grown.edges[e][1])]);
+    }
 }
 
 TEST(Growth, TheSameSeedGivesTheSameStreets) {

@@ -232,6 +232,9 @@ public:
             if (o_.smallest_block > 0 && !blocks.empty()) {
                 const auto at = static_cast<std::size_t>(std::min(1.0, o_.smallest_block) * static_cast<double>(blocks.size() - 1));
                 min_block_m2_ = 0.6 * blocks[at];
+                // A dead end joined to the street ahead splits a block in two: both halves
+                // must be of the city's usual size (its lower quartile at least).
+                split_block_m2_ = std::max(min_block_m2_, blocks[(blocks.size() - 1) / 4]);
             }
         } else {
             for (const Prototype& p : prototypes_) {
@@ -287,7 +290,10 @@ public:
         report.filled = !report.stopped_by_budget;
         close_dead_ends();
         if (o_.continue_hierarchy) {
-            const HierarchyReport h = continue_hierarchy(g_, static_cast<EdgeId>(base_edges_));
+            HierarchyOptions h_options;
+            h_options.region = region_;
+            h_options.border_m = border;
+            const HierarchyReport h = continue_hierarchy(g_, static_cast<EdgeId>(base_edges_), h_options);
             report.main_road_routes = h.routes;
             report.raised_streets = h.raised_streets;
             report.main_road_connectors = h.connectors;
@@ -608,11 +614,15 @@ private:
                 best = w;
                 best_d = length;
             }
-            if (best < 0) continue;
             EdgeAttributes attributes;
             attributes.highway = g_.edge_highway[g_.edge_count() - 1];
             for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) {
                 if (g_.edges[e][0] == static_cast<VertexId>(v) || g_.edges[e][1] == static_cast<VertexId>(v)) attributes.highway = g_.edge_highway[e];
+            }
+            if (best < 0) {
+                // No vertex ahead: the grown street ahead, if there is one, gets a T-junction.
+                if (join_street_ahead(static_cast<VertexId>(v), ahead, reach, attributes)) ++report_->t_junctions;
+                continue;
             }
             const EdgeId e = g_.add_edge(static_cast<VertexId>(v), best, attributes);
             adjacency_[v].push_back(best);
@@ -620,6 +630,81 @@ private:
             index_edge(e);
             ++report_->closing_edges;
         }
+    }
+
+    // The dead end v continued straight ahead onto the first street it meets within reach,
+    // when that is a grown street and the meeting point keeps its distance from the street's
+    // ends: the street is split there into a T-junction. False when nothing was joined.
+    bool join_street_ahead(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes) {
+        const Vec2 p = g_.positions[static_cast<std::size_t>(v)];
+        const Vec2 end = p + reach * ahead;
+        Box box(point(p), point(p));
+        bg::expand(box, point(end));
+        double first_t = 2.0;
+        EdgeId hit = -1;
+        double hit_u = 0.0;
+        for (auto it = segments_.qbegin(bgi::intersects(box)); it != segments_.qend(); ++it) {
+            const EdgeId e = it->second;
+            const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
+            if (a == v || b == v) continue;
+            const Vec2* q = g_.geometry_begin(e);
+            for (std::size_t i = 0; i + 1 < g_.geometry_size(e); ++i) {
+                const Vec2 r = end - p, s = q[i + 1] - q[i];
+                const double d = cross(r, s);
+                if (std::abs(d) <= 1e-12 * r.norm() * s.norm()) continue;
+                const double t = cross(q[i] - p, s) / d, u = cross(q[i] - p, r) / d;
+                if (t > 1e-9 && t <= 1.0 && u >= 0.0 && u <= 1.0 && t < first_t) {
+                    first_t = t;
+                    hit = g_.geometry_size(e) == 2 ? e : -1; // only a straight street is split
+                    hit_u = u;
+                }
+            }
+        }
+        if (hit < 0 || static_cast<std::size_t>(hit) < base_edges_) return false;
+        const auto e = static_cast<std::size_t>(hit);
+        const auto [a, b] = g_.edges[e];
+        const double length = g_.edge_length(hit);
+        const double keep = o_.spacing * length;
+        if (hit_u * length < std::max(keep, 1e-6) || (1.0 - hit_u) * length < std::max(keep, 1e-6)) return false;
+        const Vec2 x = p + first_t * (end - p);
+        if (!inside(region_, 0.5 * (p + x))) return false;
+        // The blocks on either side of the new street, with the junction in place.
+        const auto x_id = static_cast<VertexId>(g_.vertex_count());
+        auto around = [&](VertexId w) -> std::vector<VertexId>& { return adjacency_[static_cast<std::size_t>(w)]; };
+        g_.positions.push_back(x);
+        adjacency_.push_back({a, b, v}); // (may move the lists: they are looked up afresh below)
+        std::replace(around(a).begin(), around(a).end(), b, x_id);
+        std::replace(around(b).begin(), around(b).end(), a, x_id);
+        around(v).push_back(x_id);
+        bool small = false;
+        if (split_block_m2_ > 0) {
+            auto neighbours = [&](VertexId w) -> const std::vector<VertexId>& { return around(w); };
+            const double left = block_left_of(g_.positions, neighbours, v, x_id);
+            const double right = block_left_of(g_.positions, neighbours, x_id, v);
+            small = (left > 0 && left < split_block_m2_) || (right > 0 && right < split_block_m2_);
+        }
+        // Undone, then (if it fits) made for good.
+        around(v).pop_back();
+        std::replace(around(a).begin(), around(a).end(), x_id, b);
+        std::replace(around(b).begin(), around(b).end(), x_id, a);
+        adjacency_.pop_back();
+        g_.positions.pop_back();
+        if (small) return false;
+
+        const EdgeAttributes street = g_.edge_attributes(hit);
+        const VertexId junction = g_.add_vertex(x);
+        adjacency_.push_back({a, b, v});
+        vertices_.insert({point(x), junction});
+        g_.edges[e][1] = junction;
+        g_.geometry[static_cast<std::size_t>(g_.geometry_offsets[e + 1] - 1)] = x;
+        std::replace(around(a).begin(), around(a).end(), b, junction);
+        std::replace(around(b).begin(), around(b).end(), a, junction);
+        around(v).push_back(junction);
+        const EdgeId second = g_.add_edge(junction, b, street);
+        index_edge(second); // (the first half stays indexed by the whole street's box)
+        const EdgeId joining = g_.add_edge(v, junction, attributes);
+        index_edge(joining);
+        return true;
     }
 
     GeometricGraph g_;
@@ -639,7 +724,8 @@ private:
     std::vector<FrontierEdge> frontier_;
     Vec2 centre_ = Vec2::Zero();
     bool grid_city_ = false;
-    double min_block_m2_ = 0.0; // smallest block a placement may close (0: any)
+    double min_block_m2_ = 0.0;   // smallest block a placement may close (0: any)
+    double split_block_m2_ = 0.0; // smallest half of a block that a T-junction may leave
     std::optional<double> grid_angle_; // the grid the growth keeps to (modulo 90 degrees), once there is one
 };
 

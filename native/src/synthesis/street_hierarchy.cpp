@@ -33,6 +33,26 @@ struct MainRoad {
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
+bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
+    bool in = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const Vec2& a = ring[i];
+        const Vec2& b = ring[j];
+        if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
+    }
+    return in;
+}
+
+double distance_to_ring(const std::vector<Vec2>& ring, const Vec2& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const Vec2 d = ring[i] - ring[j];
+        const double t = std::clamp((p - ring[j]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+        best = std::min(best, (ring[j] + t * d - p).norm());
+    }
+    return best;
+}
+
 // Where segment pq meets segment ab: (t along pq, u along ab), or nothing when they are
 // parallel or miss each other.
 std::optional<std::pair<double, double>> meeting(const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b) {
@@ -138,15 +158,31 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
     // The main roads that reach the grown streets: their most important street there.
     std::vector<MainRoad> roads;
     std::unordered_map<VertexId, std::size_t> road_at;
+    // Also, with a region, a main road that ends (a dead end of the streets before the grown
+    // ones) in it or within border_m of it, though no grown street reaches it: it can only be
+    // joined straight.
+    std::vector<int> base_degree;
+    if (!o.region.empty()) {
+        base_degree.assign(g.vertex_count(), 0);
+        for (std::size_t e = 0; e < first; ++e) {
+            ++base_degree[static_cast<std::size_t>(g.edges[e][0])];
+            ++base_degree[static_cast<std::size_t>(g.edges[e][1])];
+        }
+    }
+    auto ends_in_region = [&](VertexId v) {
+        if (base_degree.empty() || base_degree[static_cast<std::size_t>(v)] != 1) return false;
+        const Vec2& p = g.positions[static_cast<std::size_t>(v)];
+        return inside(o.region, p) || distance_to_ring(o.region, p) <= o.border_m;
+    };
     for (std::size_t e = 0; e < first; ++e) {
         const HighwayClass c = g.edge_highway[e];
         if (!main_road_class(c) || highway_rank(c) >= usual_rank) continue;
         for (VertexId v : g.edges[e]) {
             const auto it = local_of.find(v);
-            if (it == local_of.end()) continue;
+            if (it == local_of.end() && !ends_in_region(v)) continue;
             const auto [at, added] = road_at.emplace(v, roads.size());
             if (added) {
-                roads.push_back({v, c, it->second, {}});
+                roads.push_back({v, c, it == local_of.end() ? -1 : it->second, {}});
             } else if (highway_rank(c) < highway_rank(roads[at->second].highway)) {
                 roads[at->second].highway = c;
             }
@@ -162,7 +198,9 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
         return x.vertex < y.vertex;
     });
     std::vector<int> road_of_local(global_of.size(), -1);
-    for (std::size_t r = 0; r < roads.size(); ++r) road_of_local[static_cast<std::size_t>(roads[r].local)] = static_cast<int>(r);
+    for (std::size_t r = 0; r < roads.size(); ++r) {
+        if (roads[r].local >= 0) road_of_local[static_cast<std::size_t>(roads[r].local)] = static_cast<int>(r);
+    }
     // Two main roads already joined by one street (the same road passing the region).
     std::vector<std::pair<VertexId, VertexId>> joined;
     for (std::size_t e = 0; e < first; ++e) {
@@ -179,7 +217,7 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
     std::vector<double> distance(n);
     std::vector<std::size_t> via(n);
     for (std::size_t s = 0; s < roads.size(); ++s) {
-        if (used[s]) continue;
+        if (used[s] || roads[s].local < 0) continue;
         // Shortest routes through the grown streets from this main road.
         std::fill(distance.begin(), distance.end(), std::numeric_limits<double>::infinity());
         using Item = std::pair<double, int>;
@@ -207,7 +245,7 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
         double best_straight = 0.0;
         const Vec2 from = g.positions[static_cast<std::size_t>(roads[s].vertex)];
         for (std::size_t t = 0; t < roads.size(); ++t) {
-            if (t == s || used[t]) continue;
+            if (t == s || used[t] || roads[t].local < 0) continue;
             const double d = distance[static_cast<std::size_t>(roads[t].local)];
             if (!std::isfinite(d)) continue;
             const double straight = (g.positions[static_cast<std::size_t>(roads[t].vertex)] - from).norm();
@@ -264,6 +302,10 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
         }
         std::sort(candidates.begin(), candidates.end());
         for (const auto& [length, t] : candidates) {
+            if (!o.region.empty()) {
+                const Vec2 middle = 0.5 * (from + g.positions[static_cast<std::size_t>(roads[t].vertex)]);
+                if (!inside(o.region, middle)) continue;
+            }
             const std::optional<Connector> plan = plan_connector(g, first, roads[s].vertex, roads[t].vertex, o.clearance_m);
             if (!plan) continue;
             const HighwayClass c = highway_rank(roads[s].highway) >= highway_rank(roads[t].highway) ? roads[s].highway

@@ -12,7 +12,8 @@
 // street (old or new), keep their distance from the streets already there and close no
 // block much smaller than the city's small ones; else it is
 // undone and another rule, vertex or direction is tried. Dead ends left at the end are
-// joined to a vertex close ahead of them where that crosses nothing, and the main roads
+// joined to a vertex close ahead of them where that crosses nothing (or, with none, to the
+// grown street ahead, at a new T-junction), and the main roads
 // that reach the grown streets are continued through them (street_hierarchy.hpp).
 //
 // Deterministic: the same inputs and seed give the same streets.
@@ -80,7 +81,8 @@ struct GrowReport {
     std::size_t added_vertices = 0;
     std::size_t added_edges = 0;
     std::size_t border_connections = 0; // placements that started from a base street
-    std::size_t closing_edges = 0;      // dead ends joined at the end
+    std::size_t closing_edges = 0;      // dead ends joined at the end to a vertex ahead
+    std::size_t t_junctions = 0;        // dead ends joined at the end to a grown street ahead, split there
     std::size_t main_road_routes = 0;   // main roads joined through the grown streets
     std::size_t raised_streets = 0;     // grown streets on those routes, now of a main road's class
     std::size_t main_road_connectors = 0; // main roads joined by a straight new main road

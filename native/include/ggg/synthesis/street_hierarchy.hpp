@@ -9,6 +9,7 @@
 // route between two main roads that face each other, a straight main road joins them, and
 // each grown street it crosses gets an intersection there.
 #include <cstddef>
+#include <vector>
 
 #include "ggg/geometric_graph.hpp"
 
@@ -26,6 +27,11 @@ struct HierarchyOptions {
     double max_connector_m = 1000.0;
     double max_connector_turn_deg = 40.0;
     double clearance_m = 8.0;
+    // The region the streets were grown into, if known (a simple polygon, not closed): then a
+    // main road that ends in it (or within border_m of it) counts even where no grown street
+    // reaches it, and a straight connector's middle must lie in it.
+    std::vector<Vec2> region;
+    double border_m = 0.0;
 };
 
 struct HierarchyReport {
