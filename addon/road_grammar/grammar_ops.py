@@ -52,6 +52,8 @@ def _rejections(report):
              "{:,} crowded".format(report["rejected_crowded"])]
     if report.get("rejected_off_grid"):
         parts.append("{:,} off the grid".format(report["rejected_off_grid"]))
+    if report.get("rejected_small_block"):
+        parts.append("{:,} closing a sliver".format(report["rejected_small_block"]))
     return ", ".join(parts)
 
 
@@ -613,7 +615,12 @@ class ROADS_OT_grow_region(GrowSettings, Operator):
             report["border_connections"])]
         if report["closing_edges"]:
             parts[0] += ", {} closing dead ends".format(report["closing_edges"])
+        if report.get("t_junctions"):
+            parts[0] += ", {}".format(_plural(report["t_junctions"], "T-junction"))
         parts[0] += ")"
+        joined = report.get("main_road_routes", 0) + report.get("main_road_connectors", 0)
+        if joined:
+            parts.append("{} continued through the new streets".format(_plural(joined, "main road")))
         if placed:
             parts.append("{} grown".format(_plural(placed, "placed rule")))
         if report["stopped_by_budget"]:
