@@ -123,6 +123,7 @@ def expected(ggg, first, second, seed=1, share=0.5, **options):
     base = old.graph(ggg)
     _ta, parsed_a = grammar.of_text(first.road_learning.text)
     _tb, parsed_b = grammar.of_text(second.road_learning.text)
+    options["continue_hierarchy"] = False  # (once, after both)
     alone, report_a = ggg.grow_region(base, parsed_a, GAP, seed=seed, **options)
     limit = max(1, int(round(share * report_a["placements"])))
     if share < 1.0 and limit < report_a["placements"]:

@@ -106,8 +106,8 @@ def stitch_figure(out):
                                  edge_highway=np.concatenate([west.edge_highway, east.edge_highway]))
     gap_west = np.array([[600.0, -600.0], [1000.0, -600.0], [1000.0, 600.0], [600.0, 600.0]])
     gap_east = gap_west + [400.0, 0.0]
-    step1, r1 = ggg.grow_region(both, grid_rules, gap_west, seed=1, border_m=150.0)
-    step2, r2 = ggg.grow_region(step1, old_rules, gap_east, seed=1, border_m=150.0)
+    step1, r1 = ggg.grow_region(both, grid_rules, gap_west, seed=1, border_m=150.0, continue_hierarchy=False)
+    step2, r2 = ggg.grow_region(step1, old_rules, gap_east, seed=1, border_m=150.0, continue_hierarchy=False)
     # The main roads of both cities continued across the whole gap (both growths).
     gap = np.array([[600.0, -600.0], [1400.0, -600.0], [1400.0, 600.0], [600.0, 600.0]])
     step3, hierarchy = ggg.continue_hierarchy(step2, both.edge_count, region=gap, border_m=150.0)

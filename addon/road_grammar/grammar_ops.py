@@ -617,6 +617,8 @@ class ROADS_OT_grow_region(GrowSettings, Operator):
             parts[0] += ", {} closing dead ends".format(report["closing_edges"])
         if report.get("t_junctions"):
             parts[0] += ", {}".format(_plural(report["t_junctions"], "T-junction"))
+        if report.get("pruned_stubs"):
+            parts[0] += ", {} cut".format(_plural(report["pruned_stubs"], "loose end"))
         parts[0] += ")"
         joined = report.get("main_road_routes", 0) + report.get("main_road_connectors", 0)
         if joined:

@@ -264,7 +264,8 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                     if text is not text_a and placed[text.name]:
                         grown, first_placed = ggg.grow_region(
                             grown, parsed, polygon, seed=self.seed + 1, max_placements=len(placed[text.name]),
-                            max_vertices=self.max_vertices, patience=0, placements=placed[text.name])
+                            max_vertices=self.max_vertices, patience=0, placements=placed[text.name],
+                            continue_hierarchy=False)
                         placed[text.name] = []
                 for text, parsed, seed, shared in passes:
                     fitting = placed.pop(text.name, [])
@@ -273,7 +274,7 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                         return ggg.grow_region(
                             grown, parsed, polygon, seed=seed, max_placements=max_placements,
                             max_vertices=self.max_vertices, patience=self.patience, placements=fitting,
-                            progress=_ThrottledProgress(progress))
+                            continue_hierarchy=False, progress=_ThrottledProgress(progress))
 
                     result = grow(self.max_placements)
                     if shared:
@@ -291,9 +292,8 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                             result[1]["share_of"] = alone
                     grown, report = result
                     reports.append(report)
-                # Each growth continues the main roads that reach its own streets; across the
-                # seam, those of one city meet those of the other only through the streets of
-                # both growths.
+                # The main roads are continued once, over the streets of both growths: across
+                # the seam, those of one city meet those of the other only through both.
                 grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count, region=polygon,
                                                           border_m=0.05 * _extent(polygon))
             except ggg.Error as ex:

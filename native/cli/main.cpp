@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
                                         {"border_connections", report.border_connections},
                                         {"closing_edges", report.closing_edges},
                                         {"t_junctions", report.t_junctions},
+                                        {"pruned_stubs", report.pruned_stubs},
                                         {"main_road_routes", report.main_road_routes},
                                         {"raised_streets", report.raised_streets},
                                         {"main_road_connectors", report.main_road_connectors},

@@ -43,7 +43,7 @@ void bind_synthesis(py::module_& m) {
         "grow_region",
         [](const GeometricGraph& base, const Grammar& grammar, DoubleArray region, std::uint64_t seed, std::size_t max_placements,
            std::size_t max_vertices, std::size_t patience, std::optional<std::vector<std::tuple<Symbol, double, double, double, double>>> placements,
-           double border_m, std::optional<py::function> progress) {
+           double border_m, bool hierarchy, std::optional<py::function> progress) {
             if (region.ndim() != 2 || region.shape(1) != 2) throw UsageError("region must have shape (N, 2): the polygon's corners in metres");
             std::vector<Vec2> ring;
             const auto r = region.unchecked<2>();
@@ -54,6 +54,7 @@ void bind_synthesis(py::module_& m) {
             o.max_vertices = max_vertices;
             o.patience = patience;
             o.border_m = border_m;
+            o.continue_hierarchy = hierarchy;
             if (placements) {
                 for (const auto& [symbol, x, y, scale, rotation] : *placements) o.placements.push_back({symbol, Vec2(x, y), Frame{scale, rotation}});
             }
@@ -68,6 +69,7 @@ void bind_synthesis(py::module_& m) {
             d["border_connections"] = report.border_connections;
             d["closing_edges"] = report.closing_edges;
             d["t_junctions"] = report.t_junctions;
+            d["pruned_stubs"] = report.pruned_stubs;
             d["rejected_outside"] = report.rejected_outside;
             d["rejected_crossing"] = report.rejected_crossing;
             d["rejected_crowded"] = report.rejected_crowded;
@@ -84,11 +86,13 @@ void bind_synthesis(py::module_& m) {
         },
         py::arg("base"), py::arg("grammar"), py::arg("region"), py::arg("seed") = 1, py::arg("max_placements") = GrowOptions{}.max_placements,
         py::arg("max_vertices") = GrowOptions{}.max_vertices, py::arg("patience") = GrowOptions{}.patience,
-        py::arg("placements") = py::none(), py::arg("border_m") = GrowOptions{}.border_m, py::arg("progress") = py::none(),
+        py::arg("placements") = py::none(), py::arg("border_m") = GrowOptions{}.border_m,
+        py::arg("continue_hierarchy") = GrowOptions{}.continue_hierarchy, py::arg("progress") = py::none(),
         "Grow streets into `region` ((N,2) polygon corners in the base graph's metres) with the grammar's rules, from the\n"
         "streets of `base` that reach it (or the region's middle). placements: rules placed by hand, (symbol, x, y, scale,\n"
         "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. border_m: how near the region a base\n"
-        "street must end to be grown from (< 0: 5 % of the region's size). Returns (Graph, report dict): the base\n"
+        "street must end to be grown from (< 0: 5 % of the region's size). continue_hierarchy: continue the main roads\n"
+        "through the grown streets at the end (see continue_hierarchy). Returns (Graph, report dict): the base\n"
         "with the grown streets after its own vertices and edges. Deterministic for a seed.");
 
     m.def(

@@ -15,6 +15,7 @@
 
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/error.hpp"
+#include "ggg/polygon.hpp"
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/rewriting.hpp"
 #include "ggg/synthesis/street_hierarchy.hpp"
@@ -31,8 +32,6 @@ using SegmentEntry = std::pair<Box, EdgeId>;
 
 Point point(const Vec2& p) { return {p.x(), p.y()}; }
 
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 // True when segments ab and cd cross or touch anywhere but at an end they share.
 bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
     const double eps = 1e-9 * std::max({(b - a).norm(), (d - c).norm(), 1.0});
@@ -46,26 +45,6 @@ bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
         return std::abs(cross(q - p, r - p)) <= eps * (q - p).norm() && (r - p).dot(r - q) <= 0;
     };
     return on(a, b, c) || on(a, b, d) || on(c, d, a) || on(c, d, b);
-}
-
-bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
-    bool in = false;
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-        const Vec2& a = ring[i];
-        const Vec2& b = ring[j];
-        if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
-    }
-    return in;
-}
-
-double distance_to_ring(const std::vector<Vec2>& ring, const Vec2& p) {
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-        const Vec2 d = ring[i] - ring[j];
-        const double t = std::clamp((p - ring[j]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
-        best = std::min(best, (ring[j] + t * d - p).norm());
-    }
-    return best;
 }
 
 // The area of the block to the left of the street u -> v, walking round it by always taking
@@ -289,6 +268,7 @@ public:
         }
         report.filled = !report.stopped_by_budget;
         close_dead_ends();
+        prune_stubs();
         if (o_.continue_hierarchy) {
             HierarchyOptions h_options;
             h_options.region = region_;
@@ -630,6 +610,67 @@ private:
             index_edge(e);
             ++report_->closing_edges;
         }
+    }
+
+    // Grown dead ends shorter than o_.prune_stubs times the typical grown street are cut off:
+    // they are the ends of rules' streets that led on to a neighbouring block in the city and
+    // that nothing was grown onto. One pass, so that a street is shortened by one stub at most.
+    void prune_stubs() {
+        if (o_.prune_stubs <= 0 || g_.edge_count() == base_edges_) return;
+        std::vector<double> lengths;
+        for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) lengths.push_back(g_.edge_length(static_cast<EdgeId>(e)));
+        std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
+        const double shortest = o_.prune_stubs * lengths[lengths.size() / 2];
+        std::vector<char> drop_vertex(g_.vertex_count(), 0), drop_edge(g_.edge_count(), 0);
+        std::size_t dropped = 0;
+        for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) {
+            const auto [a, b] = g_.edges[e];
+            for (const VertexId end : {a, b}) {
+                const VertexId other = end == a ? b : a;
+                if (static_cast<std::size_t>(end) < base_vertices_ || adjacency_[static_cast<std::size_t>(end)].size() != 1) continue;
+                // Not a street of its own (both ends loose), and not the last street of a vertex.
+                if (adjacency_[static_cast<std::size_t>(other)].size() < 3) continue;
+                if (g_.edge_length(static_cast<EdgeId>(e)) >= shortest) continue;
+                drop_vertex[static_cast<std::size_t>(end)] = 1;
+                drop_edge[e] = 1;
+                ++dropped;
+                break;
+            }
+        }
+        if (dropped == 0) return;
+        // The graph again without them (the base first, unchanged; grown ids shift down).
+        GeometricGraph kept;
+        kept.origin = g_.origin;
+        kept.names = g_.names;
+        std::vector<VertexId> id(g_.vertex_count(), -1);
+        for (std::size_t v = 0; v < g_.vertex_count(); ++v) {
+            if (drop_vertex[v]) continue;
+            id[v] = kept.add_vertex(g_.positions[v], g_.vertex_osm_ids.empty() ? 0 : g_.vertex_osm_ids[v]);
+            if (!g_.symbols.empty()) kept.symbols[static_cast<std::size_t>(id[v])] = g_.symbols[v];
+            if (!g_.frames.empty()) kept.frames[static_cast<std::size_t>(id[v])] = g_.frames[v];
+        }
+        for (std::size_t e = 0; e < g_.edge_count(); ++e) {
+            if (drop_edge[e]) continue;
+            const Vec2* p = g_.geometry_begin(static_cast<EdgeId>(e));
+            const std::vector<Vec2> polyline(p, p + g_.geometry_size(static_cast<EdgeId>(e)));
+            kept.add_edge(id[static_cast<std::size_t>(g_.edges[e][0])], id[static_cast<std::size_t>(g_.edges[e][1])],
+                          g_.edge_attributes(static_cast<EdgeId>(e)), polyline);
+        }
+        if (!g_.instances.empty()) {
+            kept.instances.clear();
+            for (std::size_t v = 0; v < g_.vertex_count(); ++v) {
+                if (!drop_vertex[v]) kept.instances.push_back(g_.instances[v]);
+            }
+        }
+        g_ = std::move(kept);
+        report_->pruned_stubs = dropped;
+        // The indexes, for what comes after (the main roads).
+        std::vector<std::vector<VertexId>> around(g_.vertex_count());
+        for (const auto& [a, b] : g_.edges) {
+            around[static_cast<std::size_t>(a)].push_back(b);
+            around[static_cast<std::size_t>(b)].push_back(a);
+        }
+        adjacency_ = std::move(around);
     }
 
     // The dead end v continued straight ahead onto the first street it meets within reach,

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ggg/error.hpp"
+#include "ggg/polygon.hpp"
 #include "ggg/highway.hpp"
 
 namespace ggg {
@@ -30,28 +31,6 @@ struct MainRoad {
     int local = -1; // index among the grown streets' vertices
     std::vector<Vec2> headings; // unit directions in which its main streets arrive at it
 };
-
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
-    bool in = false;
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-        const Vec2& a = ring[i];
-        const Vec2& b = ring[j];
-        if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
-    }
-    return in;
-}
-
-double distance_to_ring(const std::vector<Vec2>& ring, const Vec2& p) {
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-        const Vec2 d = ring[i] - ring[j];
-        const double t = std::clamp((p - ring[j]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
-        best = std::min(best, (ring[j] + t * d - p).norm());
-    }
-    return best;
-}
 
 // Where segment pq meets segment ab: (t along pq, u along ab), or nothing when they are
 // parallel or miss each other.
@@ -83,11 +62,25 @@ std::optional<Connector> plan_connector(const GeometricGraph& g, std::size_t fir
                                         double clearance) {
     const Vec2 p = g.positions[static_cast<std::size_t>(s)];
     const Vec2 q = g.positions[static_cast<std::size_t>(t)];
+    const Vec2 d = q - p;
     Connector c;
+    // Grown vertices close beside it: it goes through them (a street of a city: not at all),
+    // rather than leave a sliver between them and it.
     std::vector<char> through(g.vertex_count(), 0);
+    std::vector<char> in_base(g.vertex_count(), 0);
+    for (std::size_t e = 0; e < first; ++e) in_base[static_cast<std::size_t>(g.edges[e][0])] = in_base[static_cast<std::size_t>(g.edges[e][1])] = 1;
+    for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+        if (static_cast<VertexId>(v) == s || static_cast<VertexId>(v) == t) continue;
+        if (distance_to_segment(g.positions[v], p, q) >= clearance) continue;
+        if (in_base[v]) return std::nullopt;
+        through[v] = 1;
+        c.through.push_back({std::clamp((g.positions[v] - p).dot(d) / d.squaredNorm(), 0.0, 1.0), static_cast<VertexId>(v)});
+    }
+    auto on_chain = [&](VertexId v) { return v == s || v == t || through[static_cast<std::size_t>(v)]; };
+    // The grown streets it crosses away from those vertices are split where it crosses.
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         const auto [a, b] = g.edges[e];
-        if (a == s || b == s || a == t || b == t) continue;
+        if (on_chain(a) || on_chain(b)) continue;
         const Vec2* points = g.geometry_begin(static_cast<EdgeId>(e));
         const std::size_t n = g.geometry_size(static_cast<EdgeId>(e));
         for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -95,23 +88,30 @@ std::optional<Connector> plan_connector(const GeometricGraph& g, std::size_t fir
             if (!m) continue;
             if (e < first) return std::nullopt; // through a street of a city
             if (n != 2) return std::nullopt;    // (grown streets are straight)
-            const double length = (points[1] - points[0]).norm();
-            const double along = m->second * length;
-            if (along <= clearance || length - along <= clearance) {
-                const VertexId v = along <= clearance ? a : b;
-                if (!through[static_cast<std::size_t>(v)]) {
-                    through[static_cast<std::size_t>(v)] = 1;
-                    c.through.push_back({m->first, v});
-                }
-            } else {
-                c.splits.push_back({m->first, e, p + m->first * (q - p)});
-            }
+            c.splits.push_back({m->first, e, p + m->first * d});
         }
     }
-    // No vertex close beside it that it does not go through: that would be a sliver.
-    for (std::size_t v = 0; v < g.vertex_count(); ++v) {
-        if (static_cast<VertexId>(v) == s || static_cast<VertexId>(v) == t || through[v]) continue;
-        if (distance_to_segment(g.positions[v], p, q) < clearance) return std::nullopt;
+    // The pieces between its vertices, as they will be (bent through the vertices beside the
+    // line), may cross nothing but at their own ends.
+    std::vector<std::tuple<double, Vec2, VertexId, long>> chain; // (t, where, vertex or -1, split edge or -1)
+    chain.push_back({0.0, p, s, -1});
+    chain.push_back({1.0, q, t, -1});
+    for (const auto& [at, v] : c.through) chain.push_back({at, g.positions[static_cast<std::size_t>(v)], v, -1});
+    for (const auto& [at, e, where] : c.splits) chain.push_back({at, where, -1, static_cast<long>(e)});
+    std::sort(chain.begin(), chain.end(), [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
+    for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
+        const auto& [t0, x0, v0, e0] = chain[i];
+        const auto& [t1, x1, v1, e1] = chain[i + 1];
+        if ((x1 - x0).norm() < 1e-9) return std::nullopt; // two crossings at one point
+        for (std::size_t e = 0; e < g.edge_count(); ++e) {
+            const auto [a, b] = g.edges[e];
+            if (static_cast<long>(e) == e0 || static_cast<long>(e) == e1) continue;
+            if ((v0 >= 0 && (a == v0 || b == v0)) || (v1 >= 0 && (a == v1 || b == v1))) continue;
+            const Vec2* points = g.geometry_begin(static_cast<EdgeId>(e));
+            for (std::size_t k = 0; k + 1 < g.geometry_size(static_cast<EdgeId>(e)); ++k) {
+                if (meeting(x0, x1, points[k], points[k + 1])) return std::nullopt;
+            }
+        }
     }
     return c;
 }

@@ -65,6 +65,9 @@ struct GrowOptions {
     double smallest_block = 0.1;
     // Join dead ends to a vertex ahead of them within this fraction of the typical edge length.
     double close_dead_ends = 0.8;
+    // At the end, grown dead ends shorter than this fraction of the typical grown street are
+    // cut off (the loose ends of rules' streets that nothing was grown onto); 0 = keep them.
+    double prune_stubs = 0.75;
     // Main roads that reach the grown streets continue through them (street_hierarchy.hpp).
     bool continue_hierarchy = true;
     std::vector<RulePlacement> placements; // rules placed by hand, grown from first
@@ -83,6 +86,7 @@ struct GrowReport {
     std::size_t border_connections = 0; // placements that started from a base street
     std::size_t closing_edges = 0;      // dead ends joined at the end to a vertex ahead
     std::size_t t_junctions = 0;        // dead ends joined at the end to a grown street ahead, split there
+    std::size_t pruned_stubs = 0;       // short grown dead ends cut off at the end
     std::size_t main_road_routes = 0;   // main roads joined through the grown streets
     std::size_t raised_streets = 0;     // grown streets on those routes, now of a main road's class
     std::size_t main_road_connectors = 0; // main roads joined by a straight new main road
