@@ -90,7 +90,7 @@ void AnalysisFlags::add_to(CLI::App& c) {
     c.add_option("--min-leaves", min_leaves, "Only patterns with at least this many leaves");
     c.add_option("--min-irregularity", min_irregularity, "Only patterns at least this irregular, in degrees (0..45)")
         ->check(CLI::Range(0.0, 45.0));
-    c.add_option("--recount", recount, "Count the leading N patterns exactly, every copy within --tolerance (0 = off)")
+    c.add_option("--recount", recount, "Count the leading N patterns exactly: every copy within --tolerance of the mean of those copies (0 = off)")
         ->capture_default_str();
 }
 

@@ -82,7 +82,7 @@ void bind_analysis(py::module_& m) {
         .def_property_readonly("score", [](const AnalyzedIsogroup& a) { return a.score; },
                                "Frequency x convex-hull area added by the last vertex (paper 5.1)")
         .def_property_readonly("recounted", [](const AnalyzedIsogroup& a) { return a.recounted; },
-                               "True when the occurrences are every copy within the tolerance (exact recount)")
+                               "True when the occurrences are every copy within the tolerance of their mean pattern (exact recount)")
         .def_property_readonly("parent", [](const AnalyzedIsogroup& a) { return a.parent; },
                                "Index of the isogroup this one grew from, or -1")
         .def_property_readonly("pattern_positions", [](const AnalyzedIsogroup& a) { return points(a.group.pattern.positions); },

@@ -24,10 +24,11 @@ struct AnalyzeOptions {
     // search and the recount.
     double tolerance = 0.2;
     // The leading isogroups are recounted exactly: their occurrences become every induced
-    // copy of their mean pattern within `tolerance` (find_pattern), whichever path the
-    // expansion took to them. Their counts then no longer depend on what the frequency cut
-    // kept (the full and the pruned analysis agree on them), and they no longer include
-    // loose copies that the coarse polar grid let in. 0 = keep the counts of the expansion.
+    // copy within `tolerance` of a pattern that is the mean of those copies
+    // (find_settled_pattern), whichever path the expansion took to them. Their counts then
+    // no longer depend on what the frequency cut kept (the full and the pruned analysis
+    // agree on the groups they both rank first), and they no longer include loose copies
+    // that the coarse polar grid let in. 0 = keep the counts of the expansion.
     // A recount is a search over the whole graph: milliseconds on a district, seconds per
     // pattern on a metropolitan graph, so it is off unless asked for.
     std::size_t recount_top = 0;
