@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <sstream>
+#include <string>
+
+#include "ggg/error.hpp"
 
 namespace ggg {
 
@@ -46,6 +49,19 @@ EdgeId GeometricGraph::add_edge(VertexId u, VertexId v, const EdgeAttributes& a,
     }
     geometry_offsets.push_back(static_cast<std::int64_t>(geometry.size()));
     return id;
+}
+
+VertexId GeometricGraph::split_edge(EdgeId e, const Vec2& where) {
+    if (e < 0 || static_cast<std::size_t>(e) >= edges.size()) throw UsageError("split_edge: no edge " + std::to_string(e));
+    if (geometry_size(e) != 2) throw UsageError("split_edge: edge " + std::to_string(e) + " is not straight");
+    const auto i = static_cast<std::size_t>(e);
+    const EdgeAttributes attributes = edge_attributes(e);
+    const VertexId b = edges[i][1];
+    const VertexId x = add_vertex(where);
+    edges[i][1] = x;
+    geometry[static_cast<std::size_t>(geometry_offsets[i + 1] - 1)] = where;
+    add_edge(x, b, attributes);
+    return x;
 }
 
 EdgeAttributes GeometricGraph::edge_attributes(EdgeId e) const {

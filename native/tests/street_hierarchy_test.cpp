@@ -181,6 +181,30 @@ TEST(StreetHierarchy, FacingMainRoadsWithoutARouteAreJoinedStraight) {
     EXPECT_EQ(none.intersections, 0u);
 }
 
+// The split behind junctions on grown streets (connectors here, T-junctions in growth).
+TEST(GeometricGraph, SplitEdgeKeepsTheFirstHalfAndAppendsTheSecond) {
+    GeometricGraph g;
+    const VertexId a = g.add_vertex({0, 0}), b = g.add_vertex({100, 0}), c = g.add_vertex({0, 50});
+    EdgeAttributes named = of(HighwayClass::tertiary);
+    named.name = "High Street";
+    named.lanes = 2;
+    g.add_edge(a, b, named);
+    g.add_edge(a, c, of(HighwayClass::residential), {{0, 0}, {-5, 25}, {0, 50}});
+    const VertexId x = g.split_edge(0, {40, 0});
+    EXPECT_EQ(x, 3);
+    ASSERT_EQ(g.edge_count(), 3u);
+    EXPECT_EQ(g.edges[0], (std::array<VertexId, 2>{a, x}));
+    EXPECT_EQ(g.edges[2], (std::array<VertexId, 2>{x, b}));
+    EXPECT_DOUBLE_EQ(g.edge_length(0), 40.0);
+    EXPECT_DOUBLE_EQ(g.edge_length(2), 60.0);
+    EXPECT_EQ(g.edge_name(2), "High Street");
+    EXPECT_EQ(g.edge_lanes[2], 2);
+    EXPECT_EQ(g.edge_highway[2], HighwayClass::tertiary);
+    EXPECT_EQ(g.geometry_size(1), 3u); // the other edge's polyline is untouched
+    EXPECT_THROW(g.split_edge(1, {0, 25}), UsageError); // not straight
+    EXPECT_THROW(g.split_edge(7, {0, 0}), UsageError);
+}
+
 TEST(StreetHierarchy, BadInput) {
     Seam s = seam();
     EXPECT_THROW(continue_hierarchy(s.g, -1), UsageError);

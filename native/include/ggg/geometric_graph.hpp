@@ -75,6 +75,12 @@ public:
     EdgeId add_edge(VertexId u, VertexId v, const EdgeAttributes& attributes,
                     const std::vector<Vec2>& polyline = {});
 
+    // A new vertex at `where` on the straight edge e = (a, b): e becomes (a, x), keeping its
+    // id, and (x, b) is appended with e's attributes. Returns x. A street gets a junction
+    // where another meets it; ids of everything else stay. Throws UsageError for an edge out
+    // of range or one with a polyline.
+    VertexId split_edge(EdgeId e, const Vec2& where);
+
     EdgeAttributes edge_attributes(EdgeId e) const;
     std::string_view edge_name(EdgeId e) const { return names[edge_name_index[static_cast<std::size_t>(e)]]; }
     std::size_t geometry_size(EdgeId e) const {

@@ -15,7 +15,7 @@
 
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/error.hpp"
-#include "ggg/polygon.hpp"
+#include "ggg/plane_geometry.hpp"
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/rewriting.hpp"
 #include "ggg/synthesis/street_hierarchy.hpp"
@@ -690,14 +690,11 @@ private:
             if (a == v || b == v) continue;
             const Vec2* q = g_.geometry_begin(e);
             for (std::size_t i = 0; i + 1 < g_.geometry_size(e); ++i) {
-                const Vec2 r = end - p, s = q[i + 1] - q[i];
-                const double d = cross(r, s);
-                if (std::abs(d) <= 1e-12 * r.norm() * s.norm()) continue;
-                const double t = cross(q[i] - p, s) / d, u = cross(q[i] - p, r) / d;
-                if (t > 1e-9 && t <= 1.0 && u >= 0.0 && u <= 1.0 && t < first_t) {
-                    first_t = t;
+                const auto m = segment_meeting(p, end, q[i], q[i + 1]);
+                if (m && m->first > 1e-9 && m->first < first_t) {
+                    first_t = m->first;
                     hit = g_.geometry_size(e) == 2 ? e : -1; // only a straight street is split
-                    hit_u = u;
+                    hit_u = m->second;
                 }
             }
         }
@@ -732,17 +729,13 @@ private:
         g_.positions.pop_back();
         if (small) return false;
 
-        const EdgeAttributes street = g_.edge_attributes(hit);
-        const VertexId junction = g_.add_vertex(x);
+        const VertexId junction = g_.split_edge(hit, x);
         adjacency_.push_back({a, b, v});
         vertices_.insert({point(x), junction});
-        g_.edges[e][1] = junction;
-        g_.geometry[static_cast<std::size_t>(g_.geometry_offsets[e + 1] - 1)] = x;
         std::replace(around(a).begin(), around(a).end(), b, junction);
         std::replace(around(b).begin(), around(b).end(), a, junction);
         around(v).push_back(junction);
-        const EdgeId second = g_.add_edge(junction, b, street);
-        index_edge(second); // (the first half stays indexed by the whole street's box)
+        index_edge(static_cast<EdgeId>(g_.edge_count() - 1)); // its second half (the first stays indexed by the whole street's box)
         const EdgeId joining = g_.add_edge(v, junction, attributes);
         index_edge(joining);
         return true;

@@ -11,13 +11,19 @@
 #include <unordered_map>
 #include <vector>
 
+#include <boost/geometry.hpp>
+#include <boost/geometry/index/rtree.hpp>
+
 #include "ggg/error.hpp"
-#include "ggg/polygon.hpp"
+#include "ggg/plane_geometry.hpp"
 #include "ggg/highway.hpp"
 
 namespace ggg {
 
 namespace {
+
+namespace bg = boost::geometry;
+namespace bgi = boost::geometry::index;
 
 bool main_road_class(HighwayClass c) {
     return highway_rank(c) <= highway_rank(HighwayClass::unclassified) && c != HighwayClass::motorway_link &&
@@ -32,24 +38,6 @@ struct MainRoad {
     std::vector<Vec2> headings; // unit directions in which its main streets arrive at it
 };
 
-// Where segment pq meets segment ab: (t along pq, u along ab), or nothing when they are
-// parallel or miss each other.
-std::optional<std::pair<double, double>> meeting(const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b) {
-    const Vec2 r = q - p, s = b - a;
-    const double d = cross(r, s);
-    if (std::abs(d) <= 1e-12 * r.norm() * s.norm()) return std::nullopt;
-    const double t = cross(a - p, s) / d;
-    const double u = cross(a - p, r) / d;
-    if (t < 0.0 || t > 1.0 || u < 0.0 || u > 1.0) return std::nullopt;
-    return std::pair{t, u};
-}
-
-double distance_to_segment(const Vec2& x, const Vec2& p, const Vec2& q) {
-    const Vec2 d = q - p;
-    const double t = std::clamp((x - p).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
-    return (p + t * d - x).norm();
-}
-
 // A straight main road from s to t, made of the pieces between the grown streets it crosses
 // (each crossing becomes an intersection). Nothing when it would cross a street that the
 // growth started from, or pass too close to a vertex that it does not go through.
@@ -58,39 +46,106 @@ struct Connector {
     std::vector<std::tuple<double, std::size_t, Vec2>> splits; // (t, grown edge, where)
 };
 
-std::optional<Connector> plan_connector(const GeometricGraph& g, std::size_t first, VertexId s, VertexId t,
-                                        double clearance) {
+// Where the streets are, for the connectors' searches: the vertices and the polyline
+// segments of the graph in R-trees, and which vertices belong to the streets before the
+// grown ones. Built again after each connector (which adds and splits streets).
+class StreetIndex {
+public:
+    StreetIndex(const GeometricGraph& g, std::size_t first) : g_(g), first_(first) { build(); }
+
+    void build() {
+        in_base_.assign(g_.vertex_count(), 0);
+        for (std::size_t e = 0; e < first_; ++e) {
+            in_base_[static_cast<std::size_t>(g_.edges[e][0])] = in_base_[static_cast<std::size_t>(g_.edges[e][1])] = 1;
+        }
+        std::vector<PointEntry> points;
+        points.reserve(g_.vertex_count());
+        for (std::size_t v = 0; v < g_.vertex_count(); ++v) points.push_back({point(g_.positions[v]), static_cast<VertexId>(v)});
+        vertices_ = VertexTree(points.begin(), points.end());
+        std::vector<SegmentEntry> segments;
+        for (std::size_t e = 0; e < g_.edge_count(); ++e) {
+            const Vec2* p = g_.geometry_begin(static_cast<EdgeId>(e));
+            for (std::size_t k = 0; k + 1 < g_.geometry_size(static_cast<EdgeId>(e)); ++k) {
+                Box box(point(p[k]), point(p[k]));
+                bg::expand(box, point(p[k + 1]));
+                segments.push_back({box, {e, k}});
+            }
+        }
+        segments_ = SegmentTree(segments.begin(), segments.end());
+    }
+
+    bool in_base(VertexId v) const { return in_base_[static_cast<std::size_t>(v)] != 0; }
+
+    // Vertices within `margin` of the box of pq.
+    template <class F>
+    void vertices_near(const Vec2& p, const Vec2& q, double margin, F&& f) const {
+        for (auto it = vertices_.qbegin(bgi::intersects(around(p, q, margin))); it != vertices_.qend(); ++it) f(it->second);
+    }
+    // Polyline segments (edge, index) whose box meets the box of pq.
+    template <class F>
+    void segments_near(const Vec2& p, const Vec2& q, F&& f) const {
+        for (auto it = segments_.qbegin(bgi::intersects(around(p, q, 0.0))); it != segments_.qend(); ++it) {
+            f(it->second.first, it->second.second);
+        }
+    }
+
+private:
+    using Point = bg::model::point<double, 2, bg::cs::cartesian>;
+    using Box = bg::model::box<Point>;
+    using PointEntry = std::pair<Point, VertexId>;
+    using SegmentEntry = std::pair<Box, std::pair<std::size_t, std::size_t>>;
+    using VertexTree = bgi::rtree<PointEntry, bgi::rstar<16>>;
+    using SegmentTree = bgi::rtree<SegmentEntry, bgi::rstar<16>>;
+
+    static Point point(const Vec2& p) { return {p.x(), p.y()}; }
+    static Box around(const Vec2& p, const Vec2& q, double margin) {
+        return Box(Point(std::min(p.x(), q.x()) - margin, std::min(p.y(), q.y()) - margin),
+                   Point(std::max(p.x(), q.x()) + margin, std::max(p.y(), q.y()) + margin));
+    }
+
+    const GeometricGraph& g_;
+    std::size_t first_;
+    std::vector<char> in_base_;
+    VertexTree vertices_;
+    SegmentTree segments_;
+};
+
+std::optional<Connector> plan_connector(const GeometricGraph& g, const StreetIndex& index, std::size_t first, VertexId s,
+                                        VertexId t, double clearance) {
     const Vec2 p = g.positions[static_cast<std::size_t>(s)];
     const Vec2 q = g.positions[static_cast<std::size_t>(t)];
     const Vec2 d = q - p;
     Connector c;
     // Grown vertices close beside it: it goes through them (a street of a city: not at all),
     // rather than leave a sliver between them and it.
-    std::vector<char> through(g.vertex_count(), 0);
-    std::vector<char> in_base(g.vertex_count(), 0);
-    for (std::size_t e = 0; e < first; ++e) in_base[static_cast<std::size_t>(g.edges[e][0])] = in_base[static_cast<std::size_t>(g.edges[e][1])] = 1;
-    for (std::size_t v = 0; v < g.vertex_count(); ++v) {
-        if (static_cast<VertexId>(v) == s || static_cast<VertexId>(v) == t) continue;
-        if (distance_to_segment(g.positions[v], p, q) >= clearance) continue;
-        if (in_base[v]) return std::nullopt;
-        through[v] = 1;
-        c.through.push_back({std::clamp((g.positions[v] - p).dot(d) / d.squaredNorm(), 0.0, 1.0), static_cast<VertexId>(v)});
-    }
-    auto on_chain = [&](VertexId v) { return v == s || v == t || through[static_cast<std::size_t>(v)]; };
+    bool blocked = false;
+    index.vertices_near(p, q, clearance, [&](VertexId v) {
+        if (v == s || v == t || blocked) return;
+        if (distance_to_segment(g.positions[static_cast<std::size_t>(v)], p, q) >= clearance) return;
+        if (index.in_base(v)) blocked = true;
+        c.through.push_back({std::clamp((g.positions[static_cast<std::size_t>(v)] - p).dot(d) / d.squaredNorm(), 0.0, 1.0), v});
+    });
+    if (blocked) return std::nullopt;
+    auto on_chain = [&](VertexId v) {
+        return v == s || v == t ||
+               std::any_of(c.through.begin(), c.through.end(), [&](const auto& x) { return x.second == v; });
+    };
     // The grown streets it crosses away from those vertices are split where it crosses.
-    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+    index.segments_near(p, q, [&](std::size_t e, std::size_t k) {
+        if (blocked) return;
         const auto [a, b] = g.edges[e];
-        if (on_chain(a) || on_chain(b)) continue;
+        if (on_chain(a) || on_chain(b)) return;
         const Vec2* points = g.geometry_begin(static_cast<EdgeId>(e));
-        const std::size_t n = g.geometry_size(static_cast<EdgeId>(e));
-        for (std::size_t i = 0; i + 1 < n; ++i) {
-            const auto m = meeting(p, q, points[i], points[i + 1]);
-            if (!m) continue;
-            if (e < first) return std::nullopt; // through a street of a city
-            if (n != 2) return std::nullopt;    // (grown streets are straight)
-            c.splits.push_back({m->first, e, p + m->first * d});
+        const auto m = segment_meeting(p, q, points[k], points[k + 1]);
+        if (!m) return;
+        // Through a street of a city, or a grown one that is not straight: no connector.
+        if (e < first || g.geometry_size(static_cast<EdgeId>(e)) != 2) {
+            blocked = true;
+            return;
         }
-    }
+        c.splits.push_back({m->first, e, p + m->first * d});
+    });
+    if (blocked) return std::nullopt;
     // The pieces between its vertices, as they will be (bent through the vertices beside the
     // line), may cross nothing but at their own ends.
     std::vector<std::tuple<double, Vec2, VertexId, long>> chain; // (t, where, vertex or -1, split edge or -1)
@@ -99,20 +154,19 @@ std::optional<Connector> plan_connector(const GeometricGraph& g, std::size_t fir
     for (const auto& [at, v] : c.through) chain.push_back({at, g.positions[static_cast<std::size_t>(v)], v, -1});
     for (const auto& [at, e, where] : c.splits) chain.push_back({at, where, -1, static_cast<long>(e)});
     std::sort(chain.begin(), chain.end(), [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
-    for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
+    for (std::size_t i = 0; i + 1 < chain.size() && !blocked; ++i) {
         const auto& [t0, x0, v0, e0] = chain[i];
         const auto& [t1, x1, v1, e1] = chain[i + 1];
         if ((x1 - x0).norm() < 1e-9) return std::nullopt; // two crossings at one point
-        for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        index.segments_near(x0, x1, [&](std::size_t e, std::size_t k) {
             const auto [a, b] = g.edges[e];
-            if (static_cast<long>(e) == e0 || static_cast<long>(e) == e1) continue;
-            if ((v0 >= 0 && (a == v0 || b == v0)) || (v1 >= 0 && (a == v1 || b == v1))) continue;
+            if (static_cast<long>(e) == e0 || static_cast<long>(e) == e1) return;
+            if ((v0 >= 0 && (a == v0 || b == v0)) || (v1 >= 0 && (a == v1 || b == v1))) return;
             const Vec2* points = g.geometry_begin(static_cast<EdgeId>(e));
-            for (std::size_t k = 0; k + 1 < g.geometry_size(static_cast<EdgeId>(e)); ++k) {
-                if (meeting(x0, x1, points[k], points[k + 1])) return std::nullopt;
-            }
-        }
+            if (segment_meeting(x0, x1, points[k], points[k + 1])) blocked = true;
+        });
     }
+    if (blocked) return std::nullopt;
     return c;
 }
 
@@ -286,6 +340,7 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
         }
         return false;
     };
+    std::optional<StreetIndex> index; // built when first needed
     for (std::size_t s = 0; s < roads.size(); ++s) {
         if (used[s]) continue;
         const Vec2 from = g.positions[static_cast<std::size_t>(roads[s].vertex)];
@@ -306,20 +361,14 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
                 const Vec2 middle = 0.5 * (from + g.positions[static_cast<std::size_t>(roads[t].vertex)]);
                 if (!inside(o.region, middle)) continue;
             }
-            const std::optional<Connector> plan = plan_connector(g, first, roads[s].vertex, roads[t].vertex, o.clearance_m);
+            if (!index) index.emplace(g, first);
+            const std::optional<Connector> plan = plan_connector(g, *index, first, roads[s].vertex, roads[t].vertex, o.clearance_m);
             if (!plan) continue;
             const HighwayClass c = highway_rank(roads[s].highway) >= highway_rank(roads[t].highway) ? roads[s].highway
                                                                                                 : roads[t].highway;
             std::vector<std::pair<double, VertexId>> chain = plan->through;
             for (const auto& [at, e, where] : plan->splits) {
-                // The grown street e = (a, b) becomes (a, x) and (x, b).
-                const VertexId x = g.add_vertex(where);
-                const VertexId b = g.edges[e][1];
-                const EdgeAttributes attributes = g.edge_attributes(static_cast<EdgeId>(e));
-                g.edges[e][1] = x;
-                g.geometry[static_cast<std::size_t>(g.geometry_offsets[e + 1] - 1)] = where;
-                g.add_edge(x, b, attributes);
-                chain.push_back({at, x});
+                chain.push_back({at, g.split_edge(static_cast<EdgeId>(e), where)});
                 ++report.intersections;
             }
             chain.push_back({0.0, roads[s].vertex});
@@ -353,6 +402,7 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
             }
             used[s] = used[t] = 1;
             ++report.connectors;
+            index->build();
             break;
         }
     }
