@@ -129,8 +129,7 @@ def expected(ggg, first, second, seed=1, share=0.5, **options):
     if share < 1.0 and limit < report_a["placements"]:
         alone, report_a = ggg.grow_region(base, parsed_a, GAP, seed=seed, max_placements=limit, **options)
     grown, report_b = ggg.grow_region(alone, parsed_b, GAP, seed=seed + 1, **options)
-    extent = np.linalg.norm(GAP - GAP.mean(axis=0), axis=1).max()
-    grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count, region=GAP, border_m=0.05 * extent)
+    grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count, region=GAP)
     report_b["hierarchy"] = hierarchy
     return base, grown, report_a, report_b
 

@@ -21,12 +21,6 @@ from .grammar_ops import _ThrottledProgress, _class_widths, _plural, _rejections
 from .grammar_ops import GrowSettings, region_object, region_polygon
 
 
-def _extent(polygon):
-    """The largest distance of a corner from the corners' mean (growth's 5 % border is of it)."""
-    corners = np.asarray(polygon, dtype=np.float64)
-    return float(np.linalg.norm(corners - corners.mean(axis=0), axis=1).max())
-
-
 def selected_graphs(context, other_name=""):
     """(active road graph or None, the other road graphs: the one named, else the selected
     ones that are not the active one)."""
@@ -294,8 +288,7 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                     reports.append(report)
                 # The main roads are continued once, over the streets of both growths: across
                 # the seam, those of one city meet those of the other only through both.
-                grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count, region=polygon,
-                                                          border_m=0.05 * _extent(polygon))
+                grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count, region=polygon)
             except ggg.Error as ex:
                 hint = " (or turn off Use Placed Rules)" if isinstance(ex, ggg.UsageError) and self.use_placed_rules \
                     else ""

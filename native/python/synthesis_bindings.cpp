@@ -125,12 +125,12 @@ void bind_synthesis(py::module_& m) {
             return py::make_tuple(std::move(out), d);
         },
         py::arg("graph"), py::arg("first_new_edge"), py::arg("max_detour") = HierarchyOptions{}.max_detour,
-        py::arg("region") = py::none(), py::arg("border_m") = 0.0,
+        py::arg("region") = py::none(), py::arg("border_m") = HierarchyOptions{}.border_m,
         "Continue the main roads that reach the grown streets (edges from first_new_edge on) through them: each is\n"
         "joined to another main road as directly as the grown streets allow (at most max_detour times the straight\n"
         "line), and the grown streets on the way take the less important of the two classes. grow_region does this\n"
         "itself; call it again after several growths into one region (Stitch Cities). region ((N,2), optional): the\n"
-        "region grown into; main roads that end in it (or within border_m) count even where no grown street reaches\n"
+        "region grown into; main roads that end in it (or within border_m; < 0: 5 % of its size) count even where no grown street reaches\n"
         "them, and straight connectors stay in it. Returns (Graph, report dict).");
 
     using IndexArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;

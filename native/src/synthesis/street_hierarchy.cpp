@@ -223,10 +223,20 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
             ++base_degree[static_cast<std::size_t>(g.edges[e][1])];
         }
     }
+    double border = o.border_m;
+    if (!o.region.empty() && border < 0) {
+        // As growth measures its border: 5 % of the largest distance of a corner from their mean.
+        Vec2 centre = Vec2::Zero();
+        for (const Vec2& c : o.region) centre += c;
+        centre /= static_cast<double>(o.region.size());
+        double size = 0.0;
+        for (const Vec2& c : o.region) size = std::max(size, (c - centre).norm());
+        border = 0.05 * size;
+    }
     auto ends_in_region = [&](VertexId v) {
         if (base_degree.empty() || base_degree[static_cast<std::size_t>(v)] != 1) return false;
         const Vec2& p = g.positions[static_cast<std::size_t>(v)];
-        return inside(o.region, p) || distance_to_ring(o.region, p) <= o.border_m;
+        return inside(o.region, p) || distance_to_ring(o.region, p) <= border;
     };
     for (std::size_t e = 0; e < first; ++e) {
         const HighwayClass c = g.edge_highway[e];

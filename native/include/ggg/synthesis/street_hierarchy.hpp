@@ -28,10 +28,11 @@ struct HierarchyOptions {
     double max_connector_turn_deg = 40.0;
     double clearance_m = 8.0;
     // The region the streets were grown into, if known (a simple polygon, not closed): then a
-    // main road that ends in it (or within border_m of it) counts even where no grown street
+    // main road that ends in it (or within border_m of it; < 0: 5 % of the region's size, as
+    // for growth) counts even where no grown street
     // reaches it, and a straight connector's middle must lie in it.
     std::vector<Vec2> region;
-    double border_m = 0.0;
+    double border_m = -1.0;
 };
 
 struct HierarchyReport {
