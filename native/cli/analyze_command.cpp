@@ -71,26 +71,35 @@ std::vector<VertexId> seed_vertices(const GeometricGraph& graph, const std::stri
 void AnalysisFlags::add_to(CLI::App& c) {
     c.add_option("--grid", grid, "Polar grid of the vertex expansion: ANGLESxDISTANCES cells")->capture_default_str();
     c.add_option("--cut", cut, "Fraction of the least frequent patterns not grown further, once patterns are formed")
-        ->check(CLI::Range(0.0, 0.99))
+        ->check(number_in(0.0, 0.99))
         ->capture_default_str();
     c.add_flag("--full", full, "Grow every pattern (no frequency cut): slower, the reference for --cut");
-    c.add_option("--max-order", max_order, "Largest pattern, in vertices (0 = until nothing repeats)")
-        ->check(CLI::Range(0, 64))
+    c.add_option("--max-order", max_order, "Largest pattern, in vertices (0 = until nothing repeats, within --max-seconds and --max-memory)")
+        ->check(whole_number(0, 64))
         ->capture_default_str();
     c.add_option("--min-count", min_count, "Fewest occurrences for a pattern to count as repeated")
-        ->check(CLI::PositiveNumber)
+        ->check(count_from<std::size_t>(1))
         ->capture_default_str();
     c.add_option("--tolerance", tolerance, "How far a copy may be from a pattern (seed search, exact recount), relative to its size")
-        ->check(CLI::Range(0.0, 0.99))
+        ->check(number_in(0.0, 0.99))
         ->capture_default_str();
     c.add_option("--scale", scale, "How sizes compare: similarity (any size), rigid (same size), range (within 2x)")
         ->capture_default_str();
     c.add_option("--min-aspect", min_aspect, "Only patterns whose shape is at least this square (0..1)")
-        ->check(CLI::Range(0.0, 1.0));
-    c.add_option("--min-leaves", min_leaves, "Only patterns with at least this many leaves");
+        ->check(number_in(0.0, 1.0));
+    c.add_option("--min-leaves", min_leaves, "Only patterns with at least this many leaves")->check(count_from<std::size_t>(0));
     c.add_option("--min-irregularity", min_irregularity, "Only patterns at least this irregular, in degrees (0..45)")
-        ->check(CLI::Range(0.0, 45.0));
+        ->check(number_in(0.0, 45.0));
     c.add_option("--recount", recount, "Count the leading N patterns exactly: every copy within --tolerance of the mean of those copies (0 = off)")
+        ->check(whole_number(0, 100'000))
+        ->capture_default_str();
+    c.add_option("--max-seconds", max_seconds,
+                 "Time budget: stop growing patterns after this many seconds and keep what was found (0 = none)")
+        ->check(non_negative)
+        ->capture_default_str();
+    c.add_option("--max-memory", max_memory_mb,
+                 "Memory budget in MB for the patterns held: stop growing them beyond it and keep what was found (0 = none)")
+        ->check(non_negative)
         ->capture_default_str();
 }
 
@@ -101,6 +110,8 @@ AnalyzeOptions AnalysisFlags::options() const {
     options.detection.full = full;
     options.detection.max_order = max_order;
     options.detection.min_count = min_count;
+    options.detection.max_seconds = max_seconds;
+    options.detection.max_memory_mb = max_memory_mb;
     options.detection.scale_mode = scale_mode_from_name(scale);
     options.tolerance = tolerance;
     options.recount_top = recount;
@@ -119,7 +130,7 @@ void AnalyzeCommand::add_to(CLI::App& app) {
     analysis_.add_to(c);
     c.add_option("--seed-osm-nodes", seed_osm_nodes_,
                  "Comma-separated OSM node ids: start from the subgraph they induce instead of every edge");
-    c.add_option("--top", top_, "Print only the best N isogroups (0 = all)");
+    c.add_option("--top", top_, "Print only the best N isogroups (0 = all)")->check(count_from<std::size_t>(0));
     c.add_flag("--occurrences", occurrences_, "List the OSM node ids of every occurrence");
     c.add_flag("--stats", stats_, "Also report per-order counts and peak memory");
 }
@@ -181,7 +192,7 @@ int AnalyzeCommand::run() const {
         out["peak_memory_mb"] = peak_memory_mb();
     }
     std::cout << out.dump() << std::endl;
-    if (analysis.stopped_by_budget) std::cerr << "note: stopped growing patterns at the memory budget\n";
+    if (analysis.stopped_by_budget) std::cerr << "note: stopped growing patterns at the time or memory budget (--max-seconds, --max-memory); the patterns found so far are reported\n";
     return 0;
 }
 

@@ -23,6 +23,8 @@ struct AnalysisFlags {
     std::size_t min_leaves = 0;
     double min_irregularity = 0.0;
     std::size_t recount = 0;
+    double max_seconds = DetectionOptions{}.max_seconds;
+    double max_memory_mb = DetectionOptions{}.max_memory_mb;
 
     void add_to(CLI::App& command);
     // Throws UsageError for a bad grid, scale or option value.

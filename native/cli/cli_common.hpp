@@ -3,7 +3,10 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <cstdio>
 #include <string>
 
@@ -15,19 +18,53 @@
 namespace ggg::cli {
 
 
-// CLI11's own NonNegativeNumber prints its whole numeric range in the message.
-inline const CLI::Validator non_negative(
-    [](std::string& value) {
-        try {
-            std::size_t used = 0;
-            const double x = std::stod(value, &used);
-            if (used != value.size() || !(x >= 0) || !std::isfinite(x)) return std::string("must be a number >= 0");
-        } catch (const std::exception&) {
-            return std::string("must be a number >= 0");
-        }
-        return std::string();
-    },
-    "NUMBER >= 0");
+// Every number a flag takes is checked by its meaning before the run: NaN and infinities are
+// refused (CLI11's Range lets NaN through, since every comparison with it is false), counts
+// are whole and not negative (a size_t would wrap "-3" to 18446744073709551613), and a value
+// that does not fit its type is refused rather than clamped. CLI11 names the flag in the message.
+inline CLI::Validator number_in(double lo, double hi) {
+    auto text = [](double x) {
+        std::string s = std::to_string(x);
+        s.erase(s.find_last_not_of('0') + 1);
+        if (!s.empty() && s.back() == '.') s.pop_back();
+        return s;
+    };
+    const std::string range = std::isinf(hi) ? "a number >= " + text(lo) : "a number from " + text(lo) + " to " + text(hi);
+    return CLI::Validator(
+        [=](std::string& value) {
+            try {
+                std::size_t used = 0;
+                const double x = std::stod(value, &used);
+                if (used == value.size() && std::isfinite(x) && x >= lo && x <= hi) return std::string();
+            } catch (const std::exception&) {
+            }
+            return "must be " + range + ", got '" + value + "'";
+        },
+        std::isinf(hi) ? "NUMBER >= " + text(lo) : "NUMBER in [" + text(lo) + ", " + text(hi) + "]");
+}
+
+// Any finite number (negative ones included, for options where < 0 means "automatic").
+inline const CLI::Validator finite_number = number_in(-std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+
+inline const CLI::Validator non_negative = number_in(0.0, std::numeric_limits<double>::infinity());
+
+// A whole number from lo to hi, digits only.
+inline CLI::Validator whole_number(std::uint64_t lo, std::uint64_t hi) {
+    return CLI::Validator(
+        [=](std::string& value) {
+            std::uint64_t x = 0;
+            const char* end = value.data() + value.size();
+            const auto [ptr, error] = std::from_chars(value.data(), end, x);
+            if (!value.empty() && ptr == end && error == std::errc() && x >= lo && x <= hi) return std::string();
+            return "must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got '" + value + "'";
+        },
+        "INTEGER in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+template <typename T>
+inline CLI::Validator count_from(std::uint64_t lo) {
+    return whole_number(lo, static_cast<std::uint64_t>(std::numeric_limits<T>::max()));
+}
 
 struct ImportFlags {
     std::string highways = "drivable";

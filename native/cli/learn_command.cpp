@@ -9,6 +9,7 @@
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/error.hpp"
+#include "ggg/io/files.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
 #include "../src/io/json_util.hpp"
@@ -38,13 +39,13 @@ void LearnCommand::add_to(CLI::App& app) {
     c.add_option("INPUT", input_, "Input road graph (OSM, GeoJSON or .ggraph)")->required();
     c.add_option("-o,--output", output_, "Grammar file to write (.json)")->required();
     c.add_flag("--lossless", lossless_, "Store per-vertex residuals: decoding gives back exactly the input's edges and positions");
-    c.add_option("--levels", levels_, "Most passes of the encoder, each adding at most one level of hierarchy (0 = until nothing repeats)")->check(CLI::Range(0, 100000))->capture_default_str();
+    c.add_option("--levels", levels_, "Most passes of the encoder, each adding at most one level of hierarchy (0 = until nothing repeats)")->check(whole_number(0, 100000))->capture_default_str();
     c.add_option("--stats", stats_path_, "Also write the stats to this JSON file");
     c.add_option("--seed-osm-nodes", seed_osm_nodes_,
                  "Comma-separated OSM node ids of a piece to learn first: its pattern becomes the first rule, with all its copies");
     c.add_option("--max-shape-error", max_shape_error_,
                  "Leave out copies farther than this from the pattern's shape (RMS, relative to its size; 0 = keep all)")
-        ->check(CLI::Range(0.0, 10.0))
+        ->check(number_in(0.0, 10.0))
         ->capture_default_str();
     import_.add_to(c);
     analysis_.max_order = LearnOptions::default_analysis().detection.max_order;
@@ -58,6 +59,7 @@ int LearnCommand::run() const {
     options.max_levels = levels_;
     options.max_shape_error = max_shape_error_;
     check_options(options);
+    check_output_paths({output_, stats_path_});
     const auto t0 = std::chrono::steady_clock::now();
     const GeometricGraph graph = read_graph(input_, import_.options(), nullptr, terminal_progress());
     const std::chrono::duration<double> import_seconds = std::chrono::steady_clock::now() - t0;
@@ -74,6 +76,9 @@ int LearnCommand::run() const {
         io_detail::write_file(stats_path_, [&](std::ostream& out) { out << stats.dump(1) << '\n'; });
     }
     std::cout << stats.dump() << std::endl;
+    if (result.stopped_by_budget) {
+        std::cerr << "note: stopped at the time or memory budget (--max-seconds, --max-memory); the grammar holds the levels found so far\n";
+    }
     return 0;
 }
 
@@ -82,10 +87,14 @@ void DecodeCommand::add_to(CLI::App& app) {
     auto& c = *command_;
     c.add_option("GRAMMAR", grammar_, "Learned grammar file (.json)")->required();
     c.add_option("-o,--output", output_, "Output file: .geojson or .ggraph (keeps symbols and frames)")->required();
-    c.add_option("--level", level_, "Write the graph encoded to this level instead (0 = the streets)")->check(CLI::NonNegativeNumber);
+    c.add_option("--level", level_, "Write the graph encoded to this level instead (0 = the streets)")->check(count_from<int>(0));
 }
 
 int DecodeCommand::run() const {
+    if (graph_file_type(output_) != GraphFileType::geojson && graph_file_type(output_) != GraphFileType::graph_file) {
+        throw UsageError(output_ + ": unknown output type (use .geojson or .ggraph)");
+    }
+    check_output_path(output_);
     const Grammar grammar = read_grammar(grammar_);
     const auto t0 = std::chrono::steady_clock::now();
     const GeometricGraph graph = level_ == 0 ? decode_grammar(grammar, nullptr, terminal_progress())

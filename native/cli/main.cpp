@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -16,6 +17,7 @@
 #include "learn_command.hpp"
 #include "ggg/error.hpp"
 #include "ggg/graph_info.hpp"
+#include "ggg/io/files.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/geojson.hpp"
 #include "ggg/measures/network_comparison.hpp"
@@ -26,6 +28,8 @@
 namespace {
 
 using ggg::cli::ImportFlags;
+using ggg::cli::count_from;
+using ggg::cli::finite_number;
 using ggg::cli::non_negative;
 using ggg::cli::peak_memory_mb;
 using ggg::cli::terminal_progress;
@@ -73,9 +77,9 @@ int main(int argc, char** argv) {
     std::string base_path;
     auto* derive = app.add_subcommand("derive", "Derive a graph from a grammar's axiom (or grow a base graph) by parallel rewriting");
     derive->add_option("GRAMMAR", grammar_path, "Grammar file (.json)")->required();
-    derive->add_option("--steps", derive_options.max_steps, "Derivation steps")->check(non_negative)->capture_default_str();
+    derive->add_option("--steps", derive_options.max_steps, "Derivation steps")->check(count_from<int>(0))->capture_default_str();
     derive->add_option("--max-vertices", derive_options.max_vertices, "Vertex budget: a step that would pass it is not applied")
-        ->check(CLI::PositiveNumber)
+        ->check(count_from<std::size_t>(1))
         ->capture_default_str();
     auto* relative = derive->add_option("--tolerance", derive_options.tolerance,
                                         "Embedding and merge tolerance as a fraction of the rewritten vertex's scale")
@@ -102,13 +106,16 @@ int main(int argc, char** argv) {
     grow->add_option("--region", grow_region_path, "GeoJSON file with the region's Polygon (longitude, latitude)")->required();
     grow->add_option("--base", grow_base, "Road graph the region lies in (OSM, GeoJSON or .ggraph); its streets are kept and grown from");
     grow->add_option("-o,--output", output, "Output file: .geojson or .ggraph (the base with the grown streets)")->required();
-    grow->add_option("--seed", grow_options.seed, "Seed of the random choices: the same seed gives the same streets")->capture_default_str();
-    grow->add_option("--max-placements", grow_options.max_placements, "Most rules placed")->check(CLI::PositiveNumber)->capture_default_str();
-    grow->add_option("--max-vertices", grow_options.max_vertices, "Most vertices in the result")->check(CLI::PositiveNumber)->capture_default_str();
+    grow->add_option("--seed", grow_options.seed, "Seed of the random choices: the same seed gives the same streets")
+        ->check(count_from<std::uint64_t>(0))
+        ->capture_default_str();
+    grow->add_option("--max-placements", grow_options.max_placements, "Most rules placed")->check(count_from<std::size_t>(1))->capture_default_str();
+    grow->add_option("--max-vertices", grow_options.max_vertices, "Most vertices in the result")->check(count_from<std::size_t>(1))->capture_default_str();
     grow->add_option("--border", grow_options.border_m, "How near the region (metres) a base street must end to be grown from; < 0: 5 % of its size")
+        ->check(finite_number)
         ->capture_default_str();
     grow->add_option("--patience", grow_options.patience, "Failed placements in a row after which the region counts as full")
-        ->check(CLI::PositiveNumber)
+        ->check(count_from<std::size_t>(1))
         ->capture_default_str();
     import_flags.add_to(*grow);
     std::string compare_a, compare_b;
@@ -129,7 +136,16 @@ int main(int argc, char** argv) {
         return 2;
     }
 
+    // A file size limit (ulimit -f) makes a write fail with an error, not kill the process.
+    std::signal(SIGXFSZ, SIG_IGN);
     try {
+        // Outputs are checked before any work, so a bad path costs nothing and replaces nothing.
+        if (!output.empty()) {
+            if (ggg::graph_file_type(output) != ggg::GraphFileType::geojson && ggg::graph_file_type(output) != ggg::GraphFileType::graph_file) {
+                throw ggg::UsageError(output + ": unknown output type (use .geojson or .ggraph)");
+            }
+            ggg::check_output_path(output);
+        }
         if (learn.chosen()) return learn.run();
         if (*grow) {
             const ggg::Grammar grammar = ggg::read_grammar(grow_grammar);
@@ -179,10 +195,6 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (decode.chosen()) return decode.run();
-        if (!output.empty() && ggg::graph_file_type(output) != ggg::GraphFileType::geojson &&
-            ggg::graph_file_type(output) != ggg::GraphFileType::graph_file) {
-            throw ggg::UsageError(output + ": unknown output type (use .geojson or .ggraph)");
-        }
         if (analyze.chosen()) return analyze.run();
         if (*derive) {
             const ggg::Grammar grammar = ggg::read_grammar(grammar_path);

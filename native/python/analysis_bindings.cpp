@@ -121,27 +121,29 @@ void bind_analysis(py::module_& m) {
 
     m.def(
         "analyze",
-        [](const GeometricGraph& g, std::pair<int, int> grid, double cut, bool full, int max_order, std::size_t min_count,
+        [](const GeometricGraph& g, std::pair<int, int> grid, double cut, bool full, int max_order, std::int64_t min_count,
            const std::string& scale, std::optional<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>> seed,
-           double tolerance, double min_aspect, std::size_t min_leaves, double min_irregularity, std::size_t recount,
-           std::pair<double, double> scale_range, std::optional<py::function> progress) {
+           double tolerance, double min_aspect, std::int64_t min_leaves, double min_irregularity, std::int64_t recount,
+           std::pair<double, double> scale_range, double max_seconds, double max_memory_mb, std::optional<py::function> progress) {
             AnalyzeOptions o;
             o.detection.angle_cells = grid.first;
             o.detection.distance_cells = grid.second;
             o.detection.cut = cut;
             o.detection.full = full;
             o.detection.max_order = max_order;
-            o.detection.min_count = min_count;
+            o.detection.min_count = count_arg("min_count", min_count, 1);
+            o.detection.max_seconds = max_seconds;
+            o.detection.max_memory_mb = max_memory_mb;
             o.detection.scale_mode = scale_mode_from_name(scale);
             o.detection.min_scale = scale_range.first;
             o.detection.max_scale = scale_range.second;
             if (seed) o.seed = vertex_list(*seed, g);
             o.tolerance = tolerance;
-            o.recount_top = recount;
+            o.recount_top = count_arg("recount", recount);
             o.constraints.min_aspect = min_aspect;
-            o.constraints.min_leaves = min_leaves;
+            o.constraints.min_leaves = count_arg("min_leaves", min_leaves);
             o.constraints.min_irregularity_deg = min_irregularity;
-            check_options(o.detection);
+            check_options(o);
             PythonProgress reporter(std::move(progress));
             return reporter.run([&](const ProgressCallback& cb) { return analyze(g, o, cb); });
         },
@@ -149,13 +151,15 @@ void bind_analysis(py::module_& m) {
         py::arg("max_order") = 8, py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("seed") = py::none(),
         py::arg("tolerance") = 0.2, py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
         py::arg("min_irregularity") = 0.0, py::arg("recount") = 0,
-        py::arg("scale_range") = std::pair<double, double>{0.5, 2.0}, py::arg("progress") = py::none(),
+        py::arg("scale_range") = std::pair<double, double>{0.5, 2.0}, py::arg("max_seconds") = DetectionOptions{}.max_seconds,
+        py::arg("max_memory_mb") = DetectionOptions{}.max_memory_mb, py::arg("progress") = py::none(),
         "Find the street patterns that repeat (isogroups) and rank them by description-length gain.\n"
         "grid=(angle cells, distance cells) of the vertex expansion; cut: share of the least frequent patterns not grown\n"
         "further; full=True grows all; seed: vertex ids of a connected piece to start from (its isogroup comes first).\n"
         "scale='range': sizes within scale_range=(min, max) of each other (a group spans at most max/min).\n"
         "min_aspect / min_leaves / min_irregularity: selection constraints. recount: the leading N isogroups are counted\n"
-        "exactly (every copy within `tolerance`). progress(fraction, message) may return False\n"
+        "exactly (every copy within `tolerance`). max_seconds / max_memory_mb: budgets after which\n"
+        "patterns stop growing (0 = none; Analysis.stopped_by_budget tells). progress(fraction, message) may return False\n"
         "to cancel (raises ggg.Cancelled).");
 
     m.def(

@@ -11,12 +11,30 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include "ggg/error.hpp"
 #include "ggg/progress.hpp"
 #include "ggg/similarity.hpp"
 
 namespace ggg::python {
 
 namespace py = pybind11;
+
+// Counts come in as Python ints and are checked here: a negative one would wrap in a size_t,
+// and pybind11 would refuse it with a TypeError that does not name the argument.
+inline std::size_t count_arg(const char* name, std::int64_t value, std::int64_t lo = 0) {
+    if (value < lo) throw UsageError(std::string(name) + ": must be a whole number >= " + std::to_string(lo) + ", got " + std::to_string(value));
+    return static_cast<std::size_t>(value);
+}
+
+// A random seed: any whole number from 0 to 2**64 - 1.
+inline std::uint64_t seed_arg(const py::int_& value) {
+    const unsigned long long seed = PyLong_AsUnsignedLongLong(value.ptr());
+    if (PyErr_Occurred()) {
+        PyErr_Clear();
+        throw UsageError("seed: must be a whole number from 0 to 2**64 - 1, got " + py::str(py::handle(value)).cast<std::string>());
+    }
+    return seed;
+}
 
 template <typename T>
 inline py::array_t<T> column(const std::vector<T>& values) {

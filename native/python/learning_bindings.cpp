@@ -15,9 +15,9 @@ void bind_learning(py::module_& m) {
     m.def(
         "learn",
         [](const GeometricGraph& g, bool lossless, int levels, std::pair<int, int> grid, double cut, bool full, int max_order,
-           std::size_t min_count, const std::string& scale, double min_aspect, std::size_t min_leaves, double min_irregularity,
+           std::int64_t min_count, const std::string& scale, double min_aspect, std::int64_t min_leaves, double min_irregularity,
            double max_shape_error, std::optional<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>> seed,
-           std::optional<py::function> progress) {
+           double max_seconds, double max_memory_mb, std::optional<py::function> progress) {
             LearnOptions o;
             o.lossless = lossless;
             o.max_levels = levels;
@@ -26,10 +26,12 @@ void bind_learning(py::module_& m) {
             o.analysis.detection.cut = cut;
             o.analysis.detection.full = full;
             o.analysis.detection.max_order = max_order;
-            o.analysis.detection.min_count = min_count;
+            o.analysis.detection.min_count = count_arg("min_count", min_count, 1);
+            o.analysis.detection.max_seconds = max_seconds;
+            o.analysis.detection.max_memory_mb = max_memory_mb;
             o.analysis.detection.scale_mode = scale_mode_from_name(scale);
             o.analysis.constraints.min_aspect = min_aspect;
-            o.analysis.constraints.min_leaves = min_leaves;
+            o.analysis.constraints.min_leaves = count_arg("min_leaves", min_leaves);
             o.analysis.constraints.min_irregularity_deg = min_irregularity;
             o.max_shape_error = max_shape_error;
             if (seed) {
@@ -49,14 +51,17 @@ void bind_learning(py::module_& m) {
         py::arg("cut") = 0.8, py::arg("full") = false, py::arg("max_order") = LearnOptions::default_analysis().detection.max_order,
         py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
         py::arg("min_irregularity") = 0.0, py::arg("max_shape_error") = LearnOptions{}.max_shape_error,
-        py::arg("seed") = py::none(), py::arg("progress") = py::none(),
+        py::arg("seed") = py::none(), py::arg("max_seconds") = DetectionOptions{}.max_seconds,
+        py::arg("max_memory_mb") = DetectionOptions{}.max_memory_mb, py::arg("progress") = py::none(),
         "Learn a grammar of the road graph: returns (Grammar, stats dict as `ggg learn` prints it).\n"
         "lossless=True stores per-vertex residuals so that decode() gives back exactly the graph's edges and\n"
         "positions (within 1e-6 m). levels: most passes of the encoder, each adding at most one level of\n"
         "hierarchy (0 = until nothing repeats). The analysis\n"
         "options are those of ggg.analyze; min_aspect / min_leaves / min_irregularity constrain the patterns\n"
         "that become rules. seed: vertex ids of a piece the user picked: its pattern becomes the first rule, with all its\n"
-        "copies. progress(fraction, message) is called per level and may return False to cancel.");
+        "copies. max_seconds / max_memory_mb: the analysis budgets (the time is the whole learning's); where\n"
+        "they stop it, the grammar holds the levels found so far and stats['stopped_by_budget'] is True.\n"
+        "progress(fraction, message) is called per level and may return False to cancel.");
 
     m.def(
         "decode",

@@ -188,11 +188,11 @@ py::list rule_summaries(const ggg::Grammar& g) {
     return out;
 }
 
-py::tuple derive(const ggg::Grammar& grammar, std::optional<ggg::GeometricGraph> start, int steps, std::size_t max_vertices,
+py::tuple derive(const ggg::Grammar& grammar, std::optional<ggg::GeometricGraph> start, int steps, std::int64_t max_vertices,
                  double tolerance, std::optional<double> tolerance_m, bool strict, std::optional<py::function> progress) {
     ggg::DeriveOptions options;
     options.max_steps = steps;
-    options.max_vertices = max_vertices;
+    options.max_vertices = ggg::python::count_arg("max_vertices", max_vertices, 1);
     options.tolerance = tolerance_m ? *tolerance_m : tolerance;
     options.tolerance_relative = !tolerance_m;
     options.strict = strict;
@@ -226,7 +226,8 @@ PYBIND11_MODULE(ggg, m) {
     static py::exception<ggg::InputError> input_error(m, "InputError", error.ptr());
     static py::exception<ggg::GrammarError> grammar_error(m, "GrammarError", error.ptr());
     static py::exception<ggg::Cancelled> cancelled(m, "Cancelled", error.ptr());
-    static py::exception<ggg::UsageError> usage_error(m, "UsageError", error.ptr());
+    // Bad usage is also a ValueError, what Python code expects of an argument out of range.
+    static py::exception<ggg::UsageError> usage_error(m, "UsageError", py::make_tuple(error, py::handle(PyExc_ValueError)));
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
@@ -428,7 +429,7 @@ PYBIND11_MODULE(ggg, m) {
 
         m.def("city_layout", [face_arrays](const ggg::GeometricGraph& g, std::optional<DoubleArray> half_widths, double sidewalk_m,
                                            double lot_min_m, double lot_max_m, double depth_min_m, double depth_max_m, double gap_m,
-                                           double min_building_area_m2, double max_block_area_m2, double min_yard_area_m2, std::uint64_t seed,
+                                           double min_building_area_m2, double max_block_area_m2, double min_yard_area_m2, const py::int_& seed,
                                            unsigned threads,
                                            std::optional<py::function> progress) {
             ggg::CityLayoutOptions options;
@@ -447,7 +448,7 @@ PYBIND11_MODULE(ggg, m) {
             options.min_building_area_m2 = min_building_area_m2;
             options.max_block_area_m2 = max_block_area_m2;
             options.min_yard_area_m2 = min_yard_area_m2;
-            options.seed = seed;
+            options.seed = ggg::python::seed_arg(seed);
             options.threads = threads;
             PythonProgress reporter(std::move(progress));
             const ggg::CityLayout layout =

@@ -41,18 +41,18 @@ void bind_synthesis(py::module_& m) {
     using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
     m.def(
         "grow_region",
-        [](const GeometricGraph& base, const Grammar& grammar, DoubleArray region, std::uint64_t seed, std::size_t max_placements,
-           std::size_t max_vertices, std::size_t patience, std::optional<std::vector<std::tuple<Symbol, double, double, double, double>>> placements,
+        [](const GeometricGraph& base, const Grammar& grammar, DoubleArray region, const py::int_& seed, std::int64_t max_placements,
+           std::int64_t max_vertices, std::int64_t patience, std::optional<std::vector<std::tuple<Symbol, double, double, double, double>>> placements,
            double border_m, bool hierarchy, std::optional<py::function> progress) {
             if (region.ndim() != 2 || region.shape(1) != 2) throw UsageError("region must have shape (N, 2): the polygon's corners in metres");
             std::vector<Vec2> ring;
             const auto r = region.unchecked<2>();
             for (py::ssize_t i = 0; i < r.shape(0); ++i) ring.emplace_back(r(i, 0), r(i, 1));
             GrowOptions o;
-            o.seed = seed;
-            o.max_placements = max_placements;
-            o.max_vertices = max_vertices;
-            o.patience = patience;
+            o.seed = seed_arg(seed);
+            o.max_placements = count_arg("max_placements", max_placements, 1);
+            o.max_vertices = count_arg("max_vertices", max_vertices, 1);
+            o.patience = count_arg("patience", patience, 1);
             o.border_m = border_m;
             o.continue_hierarchy = hierarchy;
             if (placements) {

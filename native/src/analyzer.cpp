@@ -27,8 +27,21 @@ SeedSearchOptions search_options(const AnalyzeOptions& options) {
 
 } // namespace
 
+void check_options(const AnalyzeOptions& o) {
+    check_options(o.detection);
+    auto fail = [](const char* name, const std::string& what, double got) {
+        throw UsageError(std::string(name) + ": must be " + what + ", got " + std::to_string(got));
+    };
+    if (!(o.tolerance >= 0.0 && o.tolerance < 1.0)) fail("tolerance", "a number from 0 to below 1", o.tolerance);
+    if (!(o.constraints.min_aspect >= 0.0 && o.constraints.min_aspect <= 1.0)) fail("min_aspect", "a number from 0 to 1", o.constraints.min_aspect);
+    if (!(o.constraints.min_irregularity_deg >= 0.0 && o.constraints.min_irregularity_deg <= 45.0)) {
+        fail("min_irregularity", "a number of degrees from 0 to 45", o.constraints.min_irregularity_deg);
+    }
+    if (o.recount_top > 100'000) fail("recount", "a count from 0 to 100000", static_cast<double>(o.recount_top));
+}
+
 Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const ProgressCallback& progress) {
-    check_options(options.detection);
+    check_options(options);
     DetectionResult detected;
     const bool seeded = !options.seed.empty();
     if (seeded) {

@@ -14,6 +14,7 @@
 
 #include "ggg/error.hpp"
 #include "ggg/projection.hpp"
+#include "osm_text.hpp"
 
 namespace ggg {
 namespace {
@@ -34,7 +35,8 @@ void check_readable(const std::string& path) {
     const auto status = std::filesystem::status(path, ec);
     if (ec || !std::filesystem::exists(status)) throw InputError(path + ": no such file");
     if (std::filesystem::is_directory(status)) throw InputError(path + ": is a folder, not an OSM file");
-    if (std::filesystem::file_size(path, ec) == 0 || ec) throw InputError(path + ": the file is empty");
+    // A pipe or a device is read with a bound (osm_text.hpp, files.hpp); a regular file must hold something.
+    if (std::filesystem::is_regular_file(status) && std::filesystem::file_size(path, ec) == 0) throw InputError(path + ": the file is empty");
 }
 
 } // namespace
@@ -91,13 +93,27 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
     report(progress, 0.0, "reading " + std::filesystem::path(path).filename().string());
     try {
         osmium::io::File file(path);
-        const auto file_size = static_cast<double>(std::filesystem::file_size(path));
+        std::error_code ec;
+        // Text formats are read whole and checked first (osm_text.hpp); PBF goes to libosmium.
+        std::string text;
+        if (file.format() == osmium::io::file_format::xml || file.format() == osmium::io::file_format::opl) {
+            const bool xml = file.format() == osmium::io::file_format::xml;
+            text = osm_detail::read_osm_text(path);
+            osm_detail::check_osm_text(text, xml ? osm_detail::TextFormat::xml : osm_detail::TextFormat::opl, path);
+            file = osmium::io::File(text.data(), text.size(), xml ? "osm" : "opl");
+        }
+        const auto file_size = static_cast<double>(!text.empty() ? text.size() : std::max<std::uintmax_t>(1, std::filesystem::file_size(path, ec)));
         osmium::io::Reader reader(file, osmium::osm_entity_bits::node | osmium::osm_entity_bits::way);
         std::size_t buffers = 0;
         while (osmium::memory::Buffer buffer = reader.read()) {
             for (const auto& item : buffer) {
                 if (item.type() == osmium::item_type::node) {
                     const auto& node = static_cast<const osmium::Node&>(item);
+                    // A node without a location (deleted, in history files) is skipped; one with
+                    // coordinates out of range is an error, not a node silently lost.
+                    if (node.location() && !node.location().valid()) {
+                        throw InputError(path + ": node " + std::to_string(node.id()) + ": coordinates out of range (latitude -90 to 90, longitude -180 to 180)");
+                    }
                     nodes.emplace_back(node.id(), node.location());
                 } else if (item.type() == osmium::item_type::way) {
                     const auto& way = static_cast<const osmium::Way&>(item);

@@ -327,8 +327,9 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
 
 DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptions& options, const ProgressCallback& progress) {
     if (!options.grammar_validated) validate(grammar);
-    if (options.max_steps < 0) throw UsageError("the number of steps must be >= 0");
-    if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance)) throw UsageError("the tolerance must be a finite number >= 0");
+    if (options.max_steps < 0) throw UsageError("steps: the number of steps must be >= 0");
+    if (options.max_vertices < 1) throw UsageError("max_vertices: must be at least 1");
+    if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance)) throw UsageError("tolerance: must be a finite number >= 0");
     DeriveReport result;
     result.source_vertex.resize(g.vertex_count());
     std::iota(result.source_vertex.begin(), result.source_vertex.end(), 0);

@@ -98,7 +98,7 @@ std::vector<BadFile> bad_files() {
         {"truncated PBF", truncated_copy(pbf, 0.5), "not a readable OSM file"},
         {"PBF cut inside its header", truncated_copy(pbf, 0.001), "not a readable OSM file"},
         {"XML with no highways", temp_file(no_highways_xml, ".osm"), "no roads"},
-        {"coordinates out of range", temp_file(out_of_range_xml, ".osm"), "valid coordinates"},
+        {"coordinates out of range", temp_file(out_of_range_xml, ".osm"), "node 1: latitude '95.0' is out of range"},
         {"a folder", std::filesystem::temp_directory_path().string() + "/", "unknown file type"},
         {"unknown file type", temp_file("hello", ".txt"), "unknown file type"},
         {"empty GeoJSON", temp_file("  \n", ".geojson"), "empty"},

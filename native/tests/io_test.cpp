@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -230,9 +232,16 @@ TEST(WriteGraph, InvalidUtf8NamesAreReplacedAndFailedWritesLeaveNoFile) {
     const std::string dir = temp_path("");
     std::filesystem::create_directories(dir);
     const std::string blocked = dir + "/out.geojson";
-    std::filesystem::create_directories(blocked); // a folder where the file should go
-    EXPECT_THROW(write_graph(g, blocked), InputError);
-    EXPECT_FALSE(std::filesystem::exists(blocked + ".partial"));
+    std::filesystem::create_directories(blocked); // a folder where the file should go: never replaced
+    EXPECT_THROW(write_graph(g, blocked), UsageError);
+    // A folder that cannot be written to: the write fails, and leaves no temporary file.
+    const std::string locked = dir + "/locked";
+    std::filesystem::create_directories(locked);
+    std::filesystem::permissions(locked, std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+    if (::geteuid() != 0) EXPECT_THROW(write_graph(g, locked + "/out.geojson"), InputError);
+    std::filesystem::permissions(locked, std::filesystem::perms::owner_all);
+    EXPECT_TRUE(std::filesystem::is_empty(locked));
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 2);
 }
 
 TEST(GraphFile, RepeatedNamesInTheTableAreFine) {

@@ -51,6 +51,9 @@ struct Analysis {
     bool stopped_by_budget = false;
 };
 
+// Throws UsageError naming the first option out of its range (NaN included).
+void check_options(const AnalyzeOptions& options);
+
 Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options = {}, const ProgressCallback& progress = {});
 
 } // namespace ggg

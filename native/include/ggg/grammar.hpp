@@ -112,6 +112,11 @@ struct Encoding {
     double quantum_m = 0.0;   // residuals are multiples of this (lossless mode)
     std::vector<RuleInstance> instances;
     std::vector<std::int32_t> axiom_instances; // per axiom vertex, -1 = none; empty = none
+    // What the grammar decodes to, recorded by the learner and checked by every decoding, so
+    // that a damaged grammar is an error rather than streets with pieces missing. -1 = not
+    // recorded (grammars written before it was).
+    std::int64_t decoded_vertices = -1;
+    std::int64_t decoded_edges = -1;
     bool empty() const { return mode.empty(); }
     bool operator==(const Encoding&) const = default;
 };

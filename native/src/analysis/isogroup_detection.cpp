@@ -8,6 +8,7 @@
 #include "ggg/analysis/isogroup_detection.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -428,12 +429,14 @@ std::vector<Isogroup> split_by_scale(Isogroup group, const DetectionOptions& o) 
 // calling thread after each batch: where progress is reported and a cancel can stop it, so
 // a long stage never holds a cancel for more than one batch.
 template <class Body, class Between>
-void in_batches(std::size_t n, std::size_t batch, Body&& body, Between&& between) {
+// False when `between` asked to stop (a budget ran out) before every batch was done.
+bool in_batches(std::size_t n, std::size_t batch, Body&& body, Between&& between) {
     for (std::size_t start = 0; start < n; start += batch) {
         const std::size_t end = std::min(n, start + batch);
         tbb::parallel_for(start, end, body);
-        between(end);
+        if (!between(end)) return false;
     }
+    return true;
 }
 
 // A group found at the current order, with what ranking and merging need.
@@ -958,9 +961,43 @@ void sort_by_frequency(std::vector<Found>& found) {
     });
 }
 
+// The time and memory budgets of DetectionOptions. Memory is what the detection holds: the
+// groups found, the groups being grown and the candidates of the order at hand.
+class Budget {
+public:
+    explicit Budget(const DetectionOptions& o) : o_(o), start_(std::chrono::steady_clock::now()) {}
+
+    bool out_of_time() const {
+        const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start_;
+        return o_.max_seconds > 0 && elapsed.count() > o_.max_seconds;
+    }
+
+    bool spent(const DetectionResult& result, const std::vector<Isogroup>& growing, std::size_t extra_bytes) const {
+        if (out_of_time()) return true;
+        if (o_.max_memory_mb > 0) {
+            double bytes = static_cast<double>(extra_bytes);
+            for (const auto* list : {&result.isogroups, &growing}) {
+                for (const Isogroup& group : *list) bytes += held_bytes(group);
+            }
+            if (bytes > o_.max_memory_mb * 1024.0 * 1024.0) return true;
+        }
+        return false;
+    }
+
+private:
+    static double held_bytes(const Isogroup& group) {
+        return static_cast<double>(group.vertices.capacity() * sizeof(VertexId) + group.transforms.capacity() * sizeof(Similarity2) +
+                                   group.pattern.size() * (sizeof(Vec2) + sizeof(Symbol)) + group.pattern.edges.size() * 8 + sizeof(Isogroup));
+    }
+
+    const DetectionOptions& o_;
+    std::chrono::steady_clock::time_point start_;
+};
+
 DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const DetectionOptions& o,
                     const ProgressCallback& progress) {
     DetectionResult result;
+    const Budget limits(o);
     const Adjacency adjacency(g);
     const PolarGrid grid(o.angle_cells, o.distance_cells);
     const int last_order = o.max_order == 0 ? max_pattern_order : std::min(o.max_order, max_pattern_order);
@@ -995,7 +1032,7 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
         // Bound the work: would the children possibly overflow the budget?
         std::size_t parent_vertices = 0;
         for (const Isogroup& p : growing) parent_vertices += p.vertices.size();
-        if (parent_vertices > o.max_occurrence_vertices) {
+        if (parent_vertices > o.max_occurrence_vertices || limits.spent(result, growing, 0)) {
             result.stopped_by_budget = true;
             break;
         }
@@ -1020,12 +1057,17 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
         std::vector<std::vector<Candidate>> unit_candidates(units.size());
         const double step_begin = static_cast<double>(order - 1) / static_cast<double>(last_order - 1);
         const double step_size = 1.0 / static_cast<double>(last_order - 1);
-        in_batches(units.size(), 64, [&](std::size_t u) {
+        const bool collected = in_batches(units.size(), 64, [&](std::size_t u) {
             collect_candidates(g, adjacency, parents[units[u].parent], grid, o.respect_symbols, units[u].begin,
                                units[u].end, unit_candidates[u]);
         }, [&](std::size_t done) {
             report(progress, step_begin + step_size * 0.3 * static_cast<double>(done) / static_cast<double>(units.size()), message);
+            return !limits.out_of_time();
         });
+        if (!collected) {
+            result.stopped_by_budget = true;
+            break;
+        }
 
         // Gather per parent (units of a parent are consecutive and in occurrence order).
         std::vector<std::vector<Candidate>> per_parent(parents.size());
@@ -1039,8 +1081,12 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
             }
             unit_candidates[u] = {};
         }
+        if (limits.spent(result, growing, r.candidates * sizeof(Candidate))) {
+            result.stopped_by_budget = true;
+            break;
+        }
         std::vector<std::vector<Found>> per_parent_children(parents.size());
-        in_batches(parents.size(), 16, [&](std::size_t p) {
+        const bool grouped = in_batches(parents.size(), 16, [&](std::size_t p) {
             auto& c = per_parent[p];
             if (c.size() > 100'000) {
                 tbb::parallel_sort(c.begin(), c.end(), candidate_less);
@@ -1052,7 +1098,12 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
         }, [&](std::size_t done) {
             report(progress, step_begin + step_size * (0.3 + 0.4 * static_cast<double>(done) / static_cast<double>(parents.size())),
                    message);
+            return !limits.out_of_time();
         });
+        if (!grouped) {
+            result.stopped_by_budget = true;
+            break;
+        }
         std::vector<Found> children;
         for (auto& list : per_parent_children) {
             for (Found& f : list) children.push_back(std::move(f));
@@ -1149,26 +1200,21 @@ DetectionResult run(const GeometricGraph& g, std::vector<Found> level, const Det
 } // namespace
 
 void check_options(const DetectionOptions& o) {
-    auto fail = [](const std::string& what) { throw UsageError("analysis: " + what); };
-    if (o.angle_cells < 1 || o.angle_cells > 360) fail("the grid needs 1 to 360 angle cells, got " + std::to_string(o.angle_cells));
-    if (o.distance_cells < 1 || o.distance_cells > 100) {
-        fail("the grid needs 1 to 100 distance cells, got " + std::to_string(o.distance_cells));
-    }
-    if (!(o.cut >= 0.0 && o.cut < 1.0)) fail("the frequency cut must be in [0, 1), got " + std::to_string(o.cut));
-    if (o.max_order < 0 || o.max_order == 1) fail("the largest order must be 0 (no limit) or at least 2, got " + std::to_string(o.max_order));
-    if (o.max_order > max_pattern_order) {
-        fail("the largest order is " + std::to_string(max_pattern_order) + ", got " + std::to_string(o.max_order));
-    }
-    if (o.min_count < 1) fail("the minimum count must be at least 1");
-    if (!(o.merge_tolerance >= 0.0 && o.merge_tolerance < 1.0)) {
-        fail("the merge tolerance must be in [0, 1), got " + std::to_string(o.merge_tolerance));
-    }
-    if (!(o.scale_tolerance > 0.0 && o.scale_tolerance < 1.0)) {
-        fail("the scale tolerance must be in (0, 1), got " + std::to_string(o.scale_tolerance));
-    }
+    // Each message starts with the option's name as the Python module spells it.
+    auto fail = [](const std::string& what) { throw UsageError(what); };
+    if (o.angle_cells < 1 || o.angle_cells > 360) fail("grid: needs 1 to 360 angle cells, got " + std::to_string(o.angle_cells));
+    if (o.distance_cells < 1 || o.distance_cells > 100) fail("grid: needs 1 to 100 distance cells, got " + std::to_string(o.distance_cells));
+    if (!(o.cut >= 0.0 && o.cut < 1.0)) fail("cut: the frequency cut must be in [0, 1), got " + std::to_string(o.cut));
+    if (o.max_order < 0 || o.max_order == 1) fail("max_order: must be 0 (until nothing repeats) or at least 2, got " + std::to_string(o.max_order));
+    if (o.max_order > max_pattern_order) fail("max_order: at most " + std::to_string(max_pattern_order) + ", got " + std::to_string(o.max_order));
+    if (o.min_count < 1) fail("min_count: must be at least 1");
+    if (!(std::isfinite(o.max_seconds) && o.max_seconds >= 0.0)) fail("max_seconds: the time budget must be a number of seconds >= 0 (0 = none)");
+    if (!(std::isfinite(o.max_memory_mb) && o.max_memory_mb >= 0.0)) fail("max_memory_mb: the memory budget must be a number of megabytes >= 0 (0 = none)");
+    if (!(o.merge_tolerance >= 0.0 && o.merge_tolerance < 1.0)) fail("merge_tolerance: must be in [0, 1), got " + std::to_string(o.merge_tolerance));
+    if (!(o.scale_tolerance > 0.0 && o.scale_tolerance < 1.0)) fail("scale_tolerance: must be in (0, 1), got " + std::to_string(o.scale_tolerance));
     if (o.scale_mode == IsomorphismOptions::Scale::range &&
         !(std::isfinite(o.min_scale) && std::isfinite(o.max_scale) && o.min_scale > 0.0 && o.min_scale < o.max_scale)) {
-        fail("the scale range must satisfy 0 < min < max");
+        fail("scale_range: must satisfy 0 < min < max");
     }
 }
 

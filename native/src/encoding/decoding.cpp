@@ -65,6 +65,16 @@ GeometricGraph decode_grammar(const Grammar& grammar, DeriveReport* report_out, 
         throw GrammarError("the grammar '" + grammar.name + "' does not decode completely in its " +
                            std::to_string(grammar.encoding.levels) + " levels (nonterminals are left)");
     }
+    // A grammar that decodes to other streets than it was learned from is damaged (an edited
+    // position, instance or rule): an error, not a street network with pieces missing.
+    const Encoding& enc = grammar.encoding;
+    if (enc.decoded_vertices >= 0 &&
+        (static_cast<std::int64_t>(g.vertex_count()) != enc.decoded_vertices || static_cast<std::int64_t>(g.edge_count()) != enc.decoded_edges)) {
+        throw GrammarError("the grammar '" + grammar.name + "' does not decode to what it encodes: " + std::to_string(g.vertex_count()) +
+                           " vertices and " + std::to_string(g.edge_count()) + " edges instead of " + std::to_string(enc.decoded_vertices) +
+                           " and " + std::to_string(enc.decoded_edges) + " (" + std::to_string(report.totals.missed_embeddings) +
+                           " streets found no vertex to join; is the file damaged?)");
+    }
     g.instances.clear();
     if (report_out) *report_out = std::move(report);
     return g;

@@ -159,12 +159,13 @@ public:
 
     LearnResult run() {
         const auto start = Clock::now();
+        start_ = start;
         start_level_graph();
         const int max_levels = options_.max_levels > 0 ? options_.max_levels : 1'000'000;
         int level = 1;
         if (!options_.seed.empty()) encode_level(level++, true);
         for (; level <= max_levels; ++level) {
-            if (!encode_level(level, false)) break;
+            if (!encode_level(level, false) || result_.stopped_by_budget) break;
         }
         report(progress_, 0.92, "building the grammar");
         result_.axiom_edges = graph_.edge_count();
@@ -221,8 +222,18 @@ private:
         const auto analysis_start = Clock::now();
         AnalyzeOptions analysis_options = options_.analysis;
         if (seeded) analysis_options.seed = options_.seed;
+        // The analysis budget is the whole learning's: each level gets what is left of it.
+        if (const double budget = options_.analysis.detection.max_seconds; budget > 0) {
+            const double left = budget - seconds_since(start_);
+            if (left <= 0) {
+                result_.stopped_by_budget = true;
+                return false;
+            }
+            analysis_options.detection.max_seconds = left;
+        }
         const Analysis analysis = analyze(graph_, analysis_options, stage);
         result_.analysis_seconds += seconds_since(analysis_start);
+        if (analysis.stopped_by_budget) result_.stopped_by_budget = true;
 
         const Adjacency adj(graph_);
         std::vector<char> used(graph_.vertex_count(), 0);
@@ -773,6 +784,8 @@ private:
         const Grammar& grammar = result_.grammar;
         DeriveReport report;
         const GeometricGraph decoded = decode_grammar(grammar, &report);
+        result_.grammar.encoding.decoded_vertices = static_cast<std::int64_t>(decoded.vertex_count());
+        result_.grammar.encoding.decoded_edges = static_cast<std::int64_t>(decoded.edge_count());
         std::vector<std::int32_t> original(decoded.vertex_count(), -1);
         std::vector<std::int32_t> axiom_vertex(grammar.axiom_vertices.size(), -1);
         for (std::size_t v = 0; v < input_.vertex_count(); ++v) {
@@ -823,6 +836,7 @@ private:
     }
 
     const GeometricGraph& input_;
+    Clock::time_point start_;
     const LearnOptions& options_;
     IsomorphismOptions symmetry_options_ = [this] {
         IsomorphismOptions o;
@@ -851,14 +865,14 @@ private:
 } // namespace
 
 void check_options(const LearnOptions& o) {
-    check_options(o.analysis.detection);
+    check_options(o.analysis);
     if (!o.analysis.seed.empty()) throw UsageError("learning analyses the whole graph: it takes no seed");
-    if (o.max_levels < 0) throw UsageError("the number of levels must be >= 0 (0 = until nothing repeats)");
+    if (o.max_levels < 0) throw UsageError("levels: the number of levels must be >= 0 (0 = until nothing repeats)");
     const double exponent = std::log10(o.quantum_m);
     if (!(o.quantum_m >= 1e-9 && o.quantum_m <= 1e-3) || std::abs(exponent - std::round(exponent)) > 1e-9) {
         throw UsageError("the quantum must be a power of ten between 1e-9 and 1e-3 m");
     }
-    if (!(o.max_shape_error >= 0) || !std::isfinite(o.max_shape_error)) throw UsageError("the shape error must be a finite number >= 0");
+    if (!(o.max_shape_error >= 0) || !std::isfinite(o.max_shape_error)) throw UsageError("max_shape_error: the shape error must be a finite number >= 0");
     if (!(o.frame_tolerance_deg >= 0) || !(o.frame_scale_tolerance >= 1) || !std::isfinite(o.frame_scale_tolerance)) {
         throw UsageError("the frame tolerance must be >= 0 degrees and the scale tolerance a finite factor >= 1");
     }
@@ -893,6 +907,7 @@ nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& resu
         {"rules", g.rules.size()},
         {"instances", g.encoding.instances.size()},
         {"levels", g.encoding.levels},
+        {"stopped_by_budget", result.stopped_by_budget},
         {"axiom", {{"vertices", g.axiom_vertices.size()}, {"edges", result.axiom_edges}}},
         {"seconds", {{"analysis", result.analysis_seconds}, {"encoding", result.encoding_seconds}}},
         {"bytes", {{"original", result.original_bytes}, {"encoded", result.encoded_bytes}}},

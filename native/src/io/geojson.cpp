@@ -260,12 +260,8 @@ bool find_ring(const nlohmann::json& j, std::vector<Vec2>& ring, const std::stri
 }
 
 std::vector<Vec2> region_lonlat(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": no such file");
-    std::ostringstream text;
-    text << in.rdbuf();
     std::vector<Vec2> ring;
-    if (!find_ring(io_detail::parse<InputError>(text.str(), path), ring, path)) {
+    if (!find_ring(io_detail::parse<InputError>(io_detail::read_json_text<InputError>(path), path), ring, path)) {
         throw InputError(path + ": no Polygon in the file (a region is a GeoJSON Polygon or MultiPolygon)");
     }
     return ring;

@@ -69,7 +69,7 @@ json encoding_json(const Encoding& enc) {
     }
     json class_names = json::array();
     for (int c = 0; c < highway_class_count; ++c) class_names.push_back(highway_name(static_cast<HighwayClass>(c)));
-    return {{"mode", enc.mode},
+    json out{{"mode", enc.mode},
             {"levels", enc.levels},
             {"tolerance_m", enc.tolerance_m},
             {"quantum_m", enc.quantum_m},
@@ -86,6 +86,8 @@ json encoding_json(const Encoding& enc) {
               {"rule_points", std::move(rule_points)},
               {"embedding", std::move(embedding)},
               {"edge_classes", std::move(classes)}}}};
+    if (enc.decoded_vertices >= 0) out["decodes_to"] = {{"vertices", enc.decoded_vertices}, {"edges", enc.decoded_edges}};
+    return out;
 }
 
 } // namespace
@@ -203,6 +205,10 @@ Encoding read_encoding(const Reader& r, const json& doc, std::size_t symbol_coun
     enc.levels = static_cast<int>(r.integer(r.member(doc, "levels", "encoding"), "encoding.levels", 0, 1'000'000));
     enc.tolerance_m = r.number(r.member(doc, "tolerance_m", "encoding"), "encoding.tolerance_m");
     enc.quantum_m = r.number(r.member(doc, "quantum_m", "encoding"), "encoding.quantum_m");
+    if (const json* d = r.optional(doc, "decodes_to")) {
+        enc.decoded_vertices = r.integer(r.member(*d, "vertices", "encoding.decodes_to"), "encoding.decodes_to.vertices", 0, INT32_MAX);
+        enc.decoded_edges = r.integer(r.member(*d, "edges", "encoding.decodes_to"), "encoding.decodes_to.edges", 0, INT32_MAX);
+    }
     const int class_max = highway_class_count - 1;
     auto integers = [&](const json& v, const std::string& where, std::int64_t lo, std::int64_t hi) {
         std::vector<std::int32_t> out;
@@ -409,14 +415,7 @@ Grammar parse_grammar(const std::string& text, const std::string& name) {
 }
 
 Grammar read_grammar(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw GrammarError(path + ": no such file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw GrammarError(path + ": cannot open");
-    std::ostringstream s;
-    s << in.rdbuf();
-    if (s.str().find_first_not_of(" \t\r\n") == std::string::npos) throw GrammarError(path + ": the file is empty");
-    return parse_grammar(s.str(), path);
+    return parse_grammar(io_detail::read_json_text<GrammarError>(path), path);
 }
 
 void write_grammar(const Grammar& grammar, const std::string& path) {

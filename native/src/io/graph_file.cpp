@@ -197,9 +197,7 @@ void write_graph_file(const GeometricGraph& g, const std::string& path) {
 }
 
 GeometricGraph read_graph_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot open");
-    return graph_from_json(io_detail::parse<InputError>(in, path), path);
+    return graph_from_json(io_detail::parse<InputError>(io_detail::read_json_text<InputError>(path), path), path);
 }
 
 } // namespace ggg

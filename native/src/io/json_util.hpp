@@ -3,7 +3,7 @@
 // not fatal) and files written whole or not at all.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ggg/error.hpp"
+#include "ggg/io/files.hpp"
 
 namespace ggg::io_detail {
 
@@ -71,15 +72,33 @@ private:
     const std::string& name_;
 };
 
-// Parses JSON text; any failure (syntax, a number too large for a double, ...) becomes
-// `ErrorType` naming the file.
+// No file of the project nests deeper than a dozen levels or holds a string longer than a
+// street name; these bounds keep a hostile file from exhausting the stack or the time of
+// the readers that walk the document.
+inline constexpr int max_json_depth = 64;
+inline constexpr std::size_t max_json_string_bytes = std::size_t{1} << 20;
+
+// Parses JSON text; any failure (syntax, a number too large for a double, nesting deeper
+// than max_json_depth, a string longer than max_json_string_bytes) becomes `ErrorType`
+// naming the file.
 template <typename ErrorType, typename Input>
 nlohmann::json parse(Input&& input, const std::string& name) {
+    using json = nlohmann::json;
+    const json::parser_callback_t guard = [&name](int depth, json::parse_event_t event, json& parsed) {
+        if (depth > max_json_depth) {
+            throw ErrorType(name + ": not valid input (nested more than " + std::to_string(max_json_depth) + " deep)");
+        }
+        if ((event == json::parse_event_t::value || event == json::parse_event_t::key) && parsed.is_string() &&
+            parsed.get_ref<const std::string&>().size() > max_json_string_bytes) {
+            throw ErrorType(name + ": not valid input (a string longer than " + std::to_string(max_json_string_bytes >> 20) + " MiB)");
+        }
+        return true;
+    };
     try {
-        return nlohmann::json::parse(std::forward<Input>(input));
-    } catch (const nlohmann::json::parse_error& e) {
+        return json::parse(std::forward<Input>(input), guard);
+    } catch (const json::parse_error& e) {
         throw ErrorType(name + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-    } catch (const nlohmann::json::exception& e) {
+    } catch (const json::exception& e) {
         std::string what = e.what();
         const auto bracket = what.find("] ");
         if (bracket != std::string::npos) what = what.substr(bracket + 2);
@@ -87,28 +106,26 @@ nlohmann::json parse(Input&& input, const std::string& name) {
     }
 }
 
-// Writes through a temporary file beside `path` and renames it into place, so a failure
-// leaves no half-written file behind.
-inline void write_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
-    const std::string temporary = path + ".partial";
+// The whole text of a JSON file, bounded (files.hpp), any failure an `ErrorType`.
+template <typename ErrorType>
+std::string read_json_text(const std::string& path) {
+    std::string text;
     try {
-        {
-            std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-            if (!out) throw InputError(path + ": cannot open for writing");
-            write(out);
-            out.flush();
-            if (!out) throw InputError(path + ": write failed (disk full?)");
-        }
-        std::filesystem::rename(temporary, path);
-    } catch (const InputError&) {
-        std::error_code ec;
-        std::filesystem::remove(temporary, ec);
-        throw;
-    } catch (const std::exception& e) {
-        std::error_code ec;
-        std::filesystem::remove(temporary, ec);
-        throw InputError(path + ": cannot write (" + e.what() + ")");
+        text = read_text_file(path);
+    } catch (const Error& e) {
+        throw ErrorType(e.what());
     }
+    if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw ErrorType(path + ": the file is empty");
+    return text;
+}
+
+// Writes the whole output through write_text_file (files.hpp): a unique temporary file
+// beside `path`, renamed over it, so a failure leaves no half-written file behind.
+inline void write_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
+    std::ostringstream out;
+    write(out);
+    if (!out) throw InputError(path + ": cannot write (the output could not be formatted)");
+    write_text_file(path, out.view());
 }
 
 } // namespace ggg::io_detail

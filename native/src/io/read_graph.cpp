@@ -19,14 +19,6 @@ bool ends_with(const std::string& s, std::string_view suffix) {
     return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-std::string read_text(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot open");
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 } // namespace
 
 GraphFileType graph_file_type(const std::string& path) {
@@ -46,8 +38,7 @@ GeometricGraph read_graph(const std::string& path, const ImportOptions& options,
         throw InputError(path + ": unknown file type (expected .osm, .osm.pbf, .pbf, .osm.bz2, .osm.gz, .opl, .geojson, .json or .ggraph)");
     }
     report(progress, 0.0, "reading " + std::filesystem::path(path).filename().string());
-    std::string text = read_text(path);
-    if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": the file is empty");
+    std::string text = io_detail::read_json_text<InputError>(path);
     const nlohmann::json doc = io_detail::parse<InputError>(text, path);
     text.clear();
     // A .json may hold either format; the content decides.

@@ -765,6 +765,32 @@ private:
 
 } // namespace
 
+void check_options(const GrowOptions& o) {
+    auto fail = [](const char* name, const std::string& what) { throw UsageError(std::string(name) + ": must be " + what); };
+    auto finite_at_least = [&](const char* name, double value, double lo) {
+        if (!(std::isfinite(value) && value >= lo)) fail(name, "a number >= " + std::to_string(static_cast<int>(lo)) + ", got " + std::to_string(value));
+    };
+    if (o.max_placements < 1) fail("max_placements", "at least 1");
+    if (o.max_vertices < 1) fail("max_vertices", "at least 1");
+    if (o.patience < 1) fail("patience", "at least 1");
+    if (!std::isfinite(o.border_m)) fail("border_m", "a finite number of metres (< 0: 5 % of the region's size)");
+    finite_at_least("snap", o.snap, 0);
+    finite_at_least("spacing", o.spacing, 0);
+    finite_at_least("turn_deg", o.turn_deg, 0);
+    if (!(o.size_jitter >= 0 && o.size_jitter < 1)) fail("size_jitter", "a number from 0 to below 1");
+    if (!(std::isfinite(o.default_size_m) && o.default_size_m > 0)) fail("default_size_m", "a number of metres > 0");
+    finite_at_least("grid_tolerance_deg", o.grid_tolerance_deg, 0);
+    finite_at_least("block_preference", o.block_preference, 0);
+    if (!(o.smallest_block >= 0 && o.smallest_block <= 1)) fail("smallest_block", "a quantile from 0 to 1");
+    finite_at_least("close_dead_ends", o.close_dead_ends, 0);
+    finite_at_least("prune_stubs", o.prune_stubs, 0);
+    for (const RulePlacement& p : o.placements) {
+        if (!p.position.allFinite() || !std::isfinite(p.frame.scale) || !std::isfinite(p.frame.rotation_deg)) {
+            fail("placements", "finite positions, scales and rotations");
+        }
+    }
+}
+
 GeometricGraph grow_region(const GeometricGraph& base, const Grammar& grammar, const std::vector<Vec2>& region,
                            const GrowOptions& options, GrowReport* report, const ProgressCallback& progress) {
     validate(grammar);
@@ -775,14 +801,15 @@ GeometricGraph grow_region(const GeometricGraph& base, const Grammar& grammar, c
         if (!region[i].allFinite()) throw UsageError("the region's corners must be finite numbers");
         area += cross(region[j], region[i]);
     }
-    // No area: less than a millionth of the square of its extent (corners on a line).
+    // No area: corners on a line (which a map projection bends by a hair) or a sliver thinner
+    // than a metre on average.
     double extent = 0.0;
     for (const Vec2& p : region) extent = std::max(extent, (p - region.front()).norm());
-    if (!(std::abs(area) > 1e-6 * extent * extent) || !(extent > 0)) throw UsageError("the region has no area");
-    if (!(options.snap >= 0) || !(options.spacing >= 0) || !(options.size_jitter >= 0 && options.size_jitter < 1) || !(options.turn_deg >= 0) ||
-        !(options.default_size_m > 0) || !(options.close_dead_ends >= 0)) {
-        throw UsageError("growth options out of range (spacing >= 0, 0 <= size jitter < 1, turn >= 0, default size > 0)");
+    const double region_area = std::abs(area) / 2.0;
+    if (!(extent > 0) || !(region_area > 1e-4 * extent * extent) || !(region_area / extent >= 1.0)) {
+        throw UsageError("the region has no area (its corners lie on a line, or it is thinner than a metre)");
     }
+    check_options(options);
     GrowReport r;
     GeometricGraph out = Grower(base, grammar, region, options, progress).run(r);
     if (report) *report = r;

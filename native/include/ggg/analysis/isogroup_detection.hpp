@@ -68,6 +68,14 @@ struct DetectionOptions {
     // Stop growing (with stopped_by_budget set) before one order would hold more than
     // this many occurrence vertex ids, which bounds memory (4 bytes each).
     std::size_t max_occurrence_vertices = 200'000'000;
+    // Budgets that bound "until nothing repeats" (max_order 0) and any other run that grows
+    // without end: growing stops, with stopped_by_budget set and the groups found so far kept,
+    // once the detection has run this many seconds or its groups and candidates would take
+    // more than this many megabytes. The defaults fit a 2-core, 24 GB machine and are far
+    // beyond what the default analysis of a city needs (seconds, a few hundred megabytes).
+    // 0 = no limit.
+    double max_seconds = 120.0;
+    double max_memory_mb = 8192.0;
 };
 
 // Throws UsageError naming the first bad option.

@@ -106,6 +106,10 @@ struct LearnResult {
     std::size_t encoded_bytes = 0;
     RoundTrip roundtrip; // decode(grammar) against the input
     std::size_t axiom_edges = 0; // of the last level's graph (the axiom with its nonterminals' edges)
+    // A level's analysis ran out of the time or memory budget (DetectionOptions::max_seconds,
+    // max_memory_mb; the time budget is the whole learning's): the levels found so far are
+    // the grammar, complete and decodable, and no further level was tried.
+    bool stopped_by_budget = false;
 };
 
 // Learns a grammar of `graph` (its vertices, edges and road classes; edge shapes, names and

@@ -96,6 +96,9 @@ struct GrowReport {
     bool stopped_by_budget = false;    // stopped at max_placements or max_vertices
 };
 
+// Throws UsageError naming the first option out of its range (NaN and infinities included).
+void check_options(const GrowOptions& options);
+
 // The base graph with the grown streets added (base vertices and edges keep their ids).
 // `region` is a simple polygon in the base graph's metres (not closed: the last point is not
 // a copy of the first). Throws UsageError for a region with fewer than three points or no

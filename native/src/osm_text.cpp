@@ -1,0 +1,185 @@
+#include "osm_text.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+
+#include <osmium/io/any_compression.hpp>
+#include <osmium/io/file.hpp>
+
+#include "ggg/error.hpp"
+#include "ggg/io/files.hpp"
+
+namespace ggg::osm_detail {
+namespace {
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+// The number of a coordinate, or NaN when it is not one: [-]digits[.digits][e[+-]digits], the
+// forms OSM files use. Anything else is refused here rather than half-read by libosmium.
+double coordinate_value(std::string_view text) {
+    std::size_t i = 0;
+    if (i < text.size() && text[i] == '-') ++i;
+    std::size_t digits = 0;
+    while (i < text.size() && is_digit(text[i])) ++i, ++digits;
+    if (i < text.size() && text[i] == '.') {
+        ++i;
+        while (i < text.size() && is_digit(text[i])) ++i, ++digits;
+    }
+    if (digits == 0 || digits > 40) return std::nan("");
+    if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+        ++i;
+        if (i < text.size() && (text[i] == '-' || text[i] == '+')) ++i;
+        std::size_t exponent_digits = 0;
+        while (i < text.size() && is_digit(text[i])) ++i, ++exponent_digits;
+        if (exponent_digits == 0 || exponent_digits > 4) return std::nan("");
+    }
+    if (i != text.size()) return std::nan("");
+    const std::string copy(text);
+    return std::strtod(copy.c_str(), nullptr);
+}
+
+class Checker {
+public:
+    explicit Checker(const std::string& name) : name_(name) {}
+
+    void coordinate(std::string_view node_id, std::string_view value, bool latitude) const {
+        const double x = coordinate_value(value);
+        const char* what = latitude ? "latitude" : "longitude";
+        const double limit = latitude ? 90.0 : 180.0;
+        std::string shown(value.substr(0, 40));
+        if (value.size() > 40) shown += "...";
+        const std::string node = "node " + (node_id.empty() ? std::string("without an id") : std::string(node_id.substr(0, 24)));
+        if (std::isnan(x)) throw InputError(name_ + ": " + node + ": " + what + " '" + shown + "' is not a number");
+        if (!(std::abs(x) <= limit)) {
+            throw InputError(name_ + ": " + node + ": " + what + " '" + shown + "' is out of range (" + std::to_string(static_cast<int>(-limit)) +
+                             " to " + std::to_string(static_cast<int>(limit)) + ")");
+        }
+    }
+
+    [[noreturn]] void too_long(const char* what, std::size_t offset) const {
+        throw InputError(name_ + ": " + what + " at byte " + std::to_string(offset) + " is longer than " +
+                         std::to_string(max_xml_token_bytes >> 20) + " MiB (OSM tag values hold at most 255 characters)");
+    }
+
+private:
+    const std::string& name_;
+};
+
+// The attributes of one XML start tag `<node ...>`, between the name and the closing '>'.
+void check_xml_node(std::string_view element, const Checker& checker) {
+    std::string_view id, lat, lon;
+    bool have_lat = false, have_lon = false;
+    std::size_t i = 0;
+    while (i < element.size()) {
+        while (i < element.size() && is_space(element[i])) ++i;
+        const std::size_t name_begin = i;
+        while (i < element.size() && element[i] != '=' && !is_space(element[i]) && element[i] != '/' && element[i] != '>') ++i;
+        const std::string_view attribute = element.substr(name_begin, i - name_begin);
+        while (i < element.size() && is_space(element[i])) ++i;
+        if (i >= element.size() || element[i] != '=') {
+            if (attribute.empty()) ++i; // '/' or a stray character: expat will judge the syntax
+            continue;
+        }
+        ++i;
+        while (i < element.size() && is_space(element[i])) ++i;
+        if (i >= element.size() || (element[i] != '"' && element[i] != '\'')) break;
+        const char quote = element[i++];
+        const std::size_t value_begin = i;
+        while (i < element.size() && element[i] != quote) ++i;
+        const std::string_view value = element.substr(value_begin, i - value_begin);
+        ++i;
+        if (attribute == "id") id = value;
+        else if (attribute == "lat") lat = value, have_lat = true;
+        else if (attribute == "lon") lon = value, have_lon = true;
+    }
+    if (have_lat) checker.coordinate(id, lat, true);
+    if (have_lon) checker.coordinate(id, lon, false);
+}
+
+void check_xml(std::string_view text, const Checker& checker) {
+    std::size_t i = 0;
+    while (i < text.size()) {
+        const std::size_t open = text.find('<', i);
+        const std::size_t text_end = open == std::string_view::npos ? text.size() : open;
+        if (text_end - i > max_xml_token_bytes) checker.too_long("text between elements", i);
+        if (open == std::string_view::npos) break;
+        const std::size_t close = text.find('>', open);
+        const std::size_t end = close == std::string_view::npos ? text.size() : close;
+        if (end - open > max_xml_token_bytes) checker.too_long("an XML element", open);
+        if (close == std::string_view::npos) break; // truncated: expat reports it
+        const std::string_view element = text.substr(open + 1, close - open - 1);
+        if (element.size() > 4 && element.substr(0, 4) == "node" && (is_space(element[4]) || element[4] == '/')) {
+            check_xml_node(element.substr(4), checker);
+        }
+        i = close + 1;
+    }
+}
+
+// OPL: one object per line, `n<id> ... x<lon> y<lat> ...` for nodes.
+void check_opl(std::string_view text, const Checker& checker) {
+    std::size_t i = 0;
+    while (i < text.size()) {
+        std::size_t end = text.find('\n', i);
+        if (end == std::string_view::npos) end = text.size();
+        if (end - i > max_xml_token_bytes) checker.too_long("a line", i);
+        const std::string_view line = text.substr(i, end - i);
+        if (!line.empty() && line[0] == 'n') {
+            std::string_view id;
+            std::size_t t = 0;
+            while (t < line.size()) {
+                std::size_t stop = line.find(' ', t);
+                if (stop == std::string_view::npos) stop = line.size();
+                const std::string_view token = line.substr(t, stop - t);
+                if (t == 0) id = token.substr(1);
+                else if (!token.empty() && (token[0] == 'x' || token[0] == 'y') && token.size() > 1) {
+                    checker.coordinate(id, token.substr(1), token[0] == 'y');
+                }
+                t = stop + 1;
+            }
+        }
+        i = end + 1;
+    }
+}
+
+} // namespace
+
+std::string read_osm_text(const std::string& path) {
+    const osmium::io::File file(path);
+    if (file.compression() == osmium::io::file_compression::none) return read_text_file(path);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
+    std::unique_ptr<osmium::io::Decompressor> decompressor;
+    try {
+        decompressor = osmium::io::CompressionFactory::instance().create_decompressor(file.compression(), fd);
+    } catch (...) {
+        ::close(fd);
+        throw;
+    }
+    std::string text;
+    while (true) {
+        const std::string chunk = decompressor->read();
+        if (chunk.empty()) break;
+        if (text.size() + chunk.size() > max_text_file_bytes) {
+            throw InputError(path + ": decompresses to more than " + std::to_string(max_text_file_bytes >> 30) +
+                             " GiB, the most the project reads (convert it to .osm.pbf)");
+        }
+        text += chunk;
+    }
+    decompressor->close();
+    return text;
+}
+
+void check_osm_text(std::string_view text, TextFormat format, const std::string& name) {
+    const Checker checker(name);
+    if (format == TextFormat::xml) check_xml(text, checker);
+    else check_opl(text, checker);
+}
+
+} // namespace ggg::osm_detail
