@@ -1,6 +1,7 @@
 #include "osm_text.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -162,13 +163,17 @@ std::string read_osm_text(const std::string& path) {
         ::close(fd);
         throw;
     }
+    // From a pipe or a device (whose length is unknown), as much as read_text_file takes.
+    struct stat info {};
+    const bool regular = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode);
+    const std::size_t limit = regular ? max_text_file_bytes : max_stream_bytes;
     std::string text;
     while (true) {
         const std::string chunk = decompressor->read();
         if (chunk.empty()) break;
-        if (text.size() + chunk.size() > max_text_file_bytes) {
-            throw InputError(path + ": decompresses to more than " + std::to_string(max_text_file_bytes >> 30) +
-                             " GiB, the most the project reads (convert it to .osm.pbf)");
+        if (text.size() + chunk.size() > limit) {
+            throw InputError(path + ": decompresses to more than " + std::to_string(limit >> 20) +
+                             " MiB, the most the project reads" + (regular ? " (convert it to .osm.pbf)" : " from anything but a regular file"));
         }
         text += chunk;
     }

@@ -168,6 +168,13 @@ TEST(Hardening, ALinkToAnEndlessDeviceIsReadWithABound) {
         EXPECT_EQ(cli.code, 1) << suffix << ": " << cli.err;
         EXPECT_NE(cli.err.find(link + ": more than 256 MiB came from this character device"), std::string::npos) << cli.err;
     }
+    // zlib passes data that is not gzip through as it is: an endless stream of it too is bounded.
+    const std::string gz = temp_path(".osm.gz");
+    fs::create_symlink("/dev/zero", gz);
+    const auto packed = run_cli("info '" + gz + "'");
+    EXPECT_EQ(packed.code, 1) << packed.err;
+    EXPECT_NE(packed.err.find("decompresses to more than 256 MiB"), std::string::npos) << packed.err;
+
     const std::string grammar = temp_path(".json");
     fs::create_symlink("/dev/zero", grammar);
     const auto cli = run_cli("derive '" + grammar + "' -o '" + temp_path(".geojson") + "'");

@@ -18,9 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A device or a pipe says nothing of its length: this much is read at most before giving up.
-constexpr std::size_t max_stream_bytes = std::size_t{256} << 20;
-
 std::string size_text(std::size_t bytes) {
     if (bytes >= (std::size_t{1} << 30) && bytes % (std::size_t{1} << 30) == 0) return std::to_string(bytes >> 30) + " GiB";
     if (bytes >= (std::size_t{1} << 20) && bytes % (std::size_t{1} << 20) == 0) return std::to_string(bytes >> 20) + " MiB";

@@ -14,6 +14,8 @@ namespace ggg {
 // Largest text file (JSON graph, GeoJSON, grammar, uncompressed OSM XML or OPL) read into
 // memory. The largest city extracts the project reads are a few hundred megabytes as XML.
 inline constexpr std::size_t max_text_file_bytes = std::size_t{2} << 30; // 2 GiB
+// A pipe or a device says nothing of its length: this much is read from one at most.
+inline constexpr std::size_t max_stream_bytes = std::size_t{256} << 20; // 256 MiB
 
 // The whole file. Throws InputError naming the file when it is missing, a folder, unreadable,
 // or longer than `limit` bytes (for a device or a pipe: when more than `limit` bytes come).
