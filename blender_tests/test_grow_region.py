@@ -532,7 +532,7 @@ def test_compare_the_grown_town_with_the_town(town, ggg):
     grown = graph_edit.MeshGraph(town).graph(ggg)
     result = ggg.compare(grown, base)
     distances = result["distances"]
-    assert set(distances) == {"degree", "edge_length", "orientation", "block_area", "mean"}
+    assert set(distances) == {"degree", "edge_length", "orientation", "block_area", "mean", "junction_angle"}
     assert all(0.0 <= value <= 1.0 for value in distances.values()), distances
     assert distances["mean"] == pytest.approx(sum(distances[k] for k in ("degree", "edge_length", "orientation",
                                                                          "block_area")) / 4.0)

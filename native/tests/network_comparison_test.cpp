@@ -65,12 +65,61 @@ TEST(NetworkComparison, GridCitiesAreCloserToEachOtherThanToAnIrregularOne) {
     EXPECT_LT(p.orientation_order, 0.3);
     EXPECT_LT(network_distances(b, c).orientation, network_distances(b, p).orientation);
     const nlohmann::json j = compare_networks(barcelona, paris);
-    for (const char* key : {"degree", "edge_length", "orientation", "block_area", "mean"}) {
+    for (const char* key : {"degree", "edge_length", "orientation", "block_area", "mean", "junction_angle"}) {
         const double d = j["distances"][key].get<double>();
         EXPECT_GT(d, 0.0) << key;
         EXPECT_LE(d, 1.0) << key;
     }
     EXPECT_EQ(j["a"]["vertices"].get<std::size_t>(), barcelona.vertex_count());
+    // The Eixample meets at right angles and its streets run straight through; the Marais less so.
+    EXPECT_GT(b.right_angle_share, p.right_angle_share + 0.1);
+    EXPECT_GT(b.through_share, p.through_share);
+    EXPECT_GT(p.circuity, 1.0);
+    EXPECT_GT(b.circuity, 1.0);
+    EXPECT_GT(network_distances(b, p).junction_angle, network_distances(b, c).junction_angle);
+}
+
+TEST(NetworkComparison, StructureOfAGridAndAStar) {
+    GridOptions o;
+    o.n = 5; // 4 x 4 blocks: 4 corners, 12 T-junctions on the sides, 9 crossings inside
+    const GeometricGraph grid = test::make_grid(o);
+    const StreetStatistics s = street_statistics(grid);
+    EXPECT_EQ(s.junctions, 21u);
+    ASSERT_EQ(s.junction_angles_deg.size(), 12u * 3 + 9u * 4);
+    EXPECT_NEAR(s.junction_angles_deg.front(), 90.0, 1e-9);
+    EXPECT_NEAR(s.junction_angles_deg.back(), 180.0, 1e-9); // the straight side of each T
+    EXPECT_DOUBLE_EQ(s.right_angle_share, 60.0 / 72.0);
+    EXPECT_DOUBLE_EQ(s.through_share, 1.0);
+    // Manhattan over straight distance: between 1 (along a street) and sqrt(2) (diagonals).
+    EXPECT_GT(s.circuity, 1.05);
+    EXPECT_LT(s.circuity, std::sqrt(2.0));
+    const nlohmann::json summary = compare_networks(grid, grid)["a"];
+    EXPECT_DOUBLE_EQ(summary["dead_end_share"].get<double>(), 0.0);
+    EXPECT_DOUBLE_EQ(summary["degree2_share"].get<double>(), 4.0 / 25.0);
+    EXPECT_DOUBLE_EQ(summary["star_share"].get<double>(), 0.0);
+
+    // Six streets from one point, 60 degrees apart, then a seventh bent 20 degrees off a line:
+    // a star, and each street is straight through with the one opposite.
+    GeometricGraph star;
+    star.add_vertex({0, 0});
+    for (int i = 0; i < 6; ++i) {
+        const double a = i * M_PI / 3.0;
+        star.add_vertex({100 * std::cos(a), 100 * std::sin(a)});
+        star.add_edge(0, static_cast<VertexId>(i + 1), EdgeAttributes{});
+    }
+    const StreetStatistics t = street_statistics(star);
+    EXPECT_EQ(t.junctions, 1u);
+    EXPECT_DOUBLE_EQ(t.through_share, 1.0);
+    EXPECT_DOUBLE_EQ(t.right_angle_share, 0.0);
+    EXPECT_NEAR(compare_networks(star, star)["a"]["star_share"].get<double>(), 1.0 / 7.0, 1e-12);
+    EXPECT_NEAR(compare_networks(star, star)["a"]["dead_end_share"].get<double>(), 6.0 / 7.0, 1e-12);
+    // Spokes meet only at the centre: every path from spoke to spoke goes through it.
+    EXPECT_GT(t.circuity, 1.1);
+    // A single vertex has no pairs: no circuity.
+    GeometricGraph lone;
+    lone.add_vertex({0, 0});
+    EXPECT_TRUE(std::isnan(street_statistics(lone).circuity));
+    EXPECT_TRUE(compare_networks(lone, lone)["a"]["circuity"].is_null());
 }
 
 TEST(NetworkComparison, CommandLine) {

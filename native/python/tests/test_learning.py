@@ -117,7 +117,11 @@ def test_compare_networks():
     a = grid(10)
     same = ggg.compare(a, a)
     assert same["distances"]["mean"] == 0.0
-    assert set(same["distances"]) == {"degree", "edge_length", "orientation", "block_area", "mean"}
+    assert set(same["distances"]) == {"degree", "edge_length", "orientation", "block_area", "mean", "junction_angle"}
+    structure = same["a"]
+    assert structure["dead_end_share"] == pytest.approx(0.0) and structure["star_share"] == 0.0
+    assert structure["junctions"] > 0 and structure["right_angle_share"] > 0.8 and structure["through_share"] == 1.0
+    assert 1.0 < structure["circuity"] < 2 ** 0.5
     coarse = ggg.compare(a, grid(10, spacing=250.0))
     assert coarse["distances"]["edge_length"] == 1.0 and coarse["distances"]["block_area"] == 1.0
     assert coarse["a"]["orientation_order"] > 0.9 and coarse["a"]["blocks"] == 81

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
 
 #include "ggg/planar_faces.hpp"
 
@@ -48,10 +51,105 @@ double median(const std::vector<double>& sorted) {
     return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
 }
 
+// The direction in which edge `e` leaves vertex `v`: towards the point 20 m along its
+// polyline (or half-way along a shorter one), so that a kink at the junction does not count.
+Vec2 leaving_direction(const GeometricGraph& g, EdgeId e, VertexId v) {
+    const Vec2* p = g.geometry_begin(e);
+    const std::size_t n = g.geometry_size(e);
+    std::vector<Vec2> line(p, p + n);
+    if (g.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
+    const double reach = std::min(20.0, 0.5 * g.edge_length(e));
+    double walked = 0.0;
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+        const double step = (line[i + 1] - line[i]).norm();
+        if (walked + step >= reach && step > 0) return line[i] + (line[i + 1] - line[i]) * ((reach - walked) / step) - line[0];
+        walked += step;
+    }
+    return line.back() - line.front();
+}
+
+void junction_structure(const GeometricGraph& g, const Adjacency& adj, StreetStatistics& s) {
+    std::size_t through = 0, right = 0;
+    std::vector<double> bearings;
+    for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+        const auto id = static_cast<VertexId>(v);
+        if (adj.degree(id) < 3) continue;
+        ++s.junctions;
+        bearings.clear();
+        for (auto i = static_cast<std::size_t>(adj.offsets[v]); i < static_cast<std::size_t>(adj.offsets[v + 1]); ++i) {
+            const Vec2 d = leaving_direction(g, adj.edge_ids[i], id);
+            bearings.push_back(std::atan2(d.y(), d.x()) * 180.0 / M_PI);
+        }
+        std::sort(bearings.begin(), bearings.end());
+        bool straight = false;
+        for (std::size_t i = 0; i < bearings.size(); ++i) {
+            const double next = i + 1 < bearings.size() ? bearings[i + 1] : bearings[0] + 360.0;
+            const double angle = next - bearings[i];
+            s.junction_angles_deg.push_back(angle);
+            if (std::abs(angle - 90.0) <= 15.0) ++right;
+            for (std::size_t j = i + 1; j < bearings.size(); ++j) {
+                const double turn = std::abs(std::remainder(bearings[j] - bearings[i], 360.0));
+                if (turn >= 155.0) straight = true;
+            }
+        }
+        if (straight) ++through;
+    }
+    std::sort(s.junction_angles_deg.begin(), s.junction_angles_deg.end());
+    if (!s.junction_angles_deg.empty()) s.right_angle_share = static_cast<double>(right) / static_cast<double>(s.junction_angles_deg.size());
+    if (s.junctions) s.through_share = static_cast<double>(through) / static_cast<double>(s.junctions);
+}
+
+// Network over straight distance, summed over pairs (Boeing's average circuity).
+double circuity(const GeometricGraph& g, const Adjacency& adj) {
+    const std::size_t n = g.vertex_count();
+    if (n < 2) return std::nan("");
+    constexpr std::size_t sources = 24;
+    const std::size_t step = std::max<std::size_t>(1, n / sources);
+    double network = 0.0, straight = 0.0;
+    std::vector<double> dist(n);
+    using Item = std::pair<double, VertexId>;
+    for (std::size_t s = (step / 2) % n, count = 0; count < sources && s < n; s += step, ++count) {
+        std::fill(dist.begin(), dist.end(), std::numeric_limits<double>::infinity());
+        std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+        dist[s] = 0.0;
+        queue.emplace(0.0, static_cast<VertexId>(s));
+        while (!queue.empty()) {
+            const auto [d, v] = queue.top();
+            queue.pop();
+            if (d > dist[static_cast<std::size_t>(v)]) continue;
+            for (auto i = static_cast<std::size_t>(adj.offsets[static_cast<std::size_t>(v)]); i < static_cast<std::size_t>(adj.offsets[static_cast<std::size_t>(v) + 1]); ++i) {
+                const VertexId w = adj.neighbors[i];
+                const double nd = d + g.edge_length(adj.edge_ids[i]);
+                if (nd < dist[static_cast<std::size_t>(w)]) {
+                    dist[static_cast<std::size_t>(w)] = nd;
+                    queue.emplace(nd, w);
+                }
+            }
+        }
+        for (std::size_t t = 0; t < n; ++t) {
+            if (t == s || !std::isfinite(dist[t])) continue;
+            const double line = (g.positions[t] - g.positions[s]).norm();
+            if (line <= 0) continue;
+            network += dist[t];
+            straight += line;
+        }
+    }
+    return straight > 0 ? network / straight : std::nan("");
+}
+
 nlohmann::json summary(const StreetStatistics& s) {
     double mean_degree = 0.0;
     for (int d = 0; d < kDegreeBins; ++d) mean_degree += d * s.degree_histogram[static_cast<std::size_t>(d)];
+    double stars = 0.0;
+    for (int d = 5; d < kDegreeBins; ++d) stars += s.degree_histogram[static_cast<std::size_t>(d)];
     return {{"vertices", s.vertices},
+            {"junctions", s.junctions},
+            {"dead_end_share", s.degree_histogram[1]},
+            {"degree2_share", s.degree_histogram[2]},
+            {"star_share", stars},
+            {"right_angle_share", s.right_angle_share},
+            {"through_share", s.through_share},
+            {"circuity", std::isfinite(s.circuity) ? nlohmann::json(s.circuity) : nlohmann::json(nullptr)},
             {"edges", s.edges},
             {"mean_degree", mean_degree},
             {"median_edge_length_m", median(s.edge_lengths_m)},
@@ -74,6 +172,8 @@ StreetStatistics street_statistics(const GeometricGraph& g) {
             ++s.degree_histogram[std::min<std::size_t>(kDegreeBins - 1, adj.degree(static_cast<VertexId>(v)))];
         }
         for (double& share : s.degree_histogram) share /= static_cast<double>(g.vertex_count());
+        junction_structure(g, adj, s);
+        s.circuity = circuity(g, adj);
     }
     s.orientation_histogram.assign(kOrientationBins, 0.0);
     double total = 0.0;
@@ -121,6 +221,7 @@ NetworkDistances network_distances(const StreetStatistics& a, const StreetStatis
         d.orientation = std::min(d.orientation, total_variation(a.orientation_histogram, b.orientation_histogram, shift));
     }
     d.block_area = kolmogorov_smirnov(a.block_areas_m2, b.block_areas_m2);
+    d.junction_angle = kolmogorov_smirnov(a.junction_angles_deg, b.junction_angles_deg);
     return d;
 }
 
@@ -133,7 +234,8 @@ nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b
               {"edge_length", d.edge_length},
               {"orientation", d.orientation},
               {"block_area", d.block_area},
-              {"mean", d.mean()}}},
+              {"mean", d.mean()},
+              {"junction_angle", d.junction_angle}}},
             {"a", summary(sa)},
             {"b", summary(sb)}};
 }

@@ -9,6 +9,12 @@
 //  - orientation: total variation distance between the orientation histograms, after
 //    turning one by the multiple of 10 degrees that matches them best, since a grid city
 //    turned by 30 degrees has the same street pattern.
+// Beside the distributions, the structure a planner reads off a street map: how streets meet
+// (the angles at junctions, right angles, streets that go straight through), where they end
+// (dead ends), vertices that only bend a street (degree 2), star junctions of five streets or
+// more, and how direct the network is (circuity). The junction-angle distance is the
+// Kolmogorov-Smirnov statistic of the angles, like the length and area distances.
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -28,6 +34,17 @@ struct StreetStatistics {
     // Boeing's orientation order: 1 for a perfect grid, 0 for uniformly spread bearings.
     double orientation_order = 0.0;
     std::vector<double> block_areas_m2;        // sorted, the bounded faces
+    // At every junction (three streets or more), the angles between neighbouring streets
+    // (sorted around it; they add up to 360), each street's direction taken 20 m along it (or
+    // half its length): sorted, degrees.
+    std::vector<double> junction_angles_deg;
+    std::size_t junctions = 0;
+    double right_angle_share = 0.0; // of the junction angles, within 15 degrees of 90
+    double through_share = 0.0;     // of the junctions, those where two streets continue within 25 degrees of straight
+    // Network distance over straight distance, summed over pairs of vertices (deterministic
+    // sample: up to 24 sources, every other vertex of their component as target); 1 for
+    // straight streets, more for winding or broken networks. NaN with no pair (one vertex).
+    double circuity = std::nan("");
 };
 
 StreetStatistics street_statistics(const GeometricGraph& graph);
@@ -37,15 +54,18 @@ struct NetworkDistances {
     double edge_length = 0.0;
     double orientation = 0.0;
     double block_area = 0.0;
+    double junction_angle = 0.0; // reported beside the four, not part of their mean
     // The four averaged: one number for "how alike".
     double mean() const { return (degree + edge_length + orientation + block_area) / 4.0; }
 };
 
 NetworkDistances network_distances(const StreetStatistics& a, const StreetStatistics& b);
 
-// `ggg compare`'s output: {"distances": {degree, edge_length, orientation, block_area, mean},
-// "a": summary, "b": summary} with vertices, edges, mean degree, median edge length,
-// orientation entropy and order, blocks and median block area of each.
+// `ggg compare`'s output: {"distances": {degree, edge_length, orientation, block_area, mean,
+// junction_angle}, "a": summary, "b": summary} with vertices, edges, mean degree, median edge
+// length, orientation entropy and order, blocks and median block area, and the structure:
+// junctions, dead_end_share, degree2_share, star_share (of the vertices), right_angle_share
+// (of the junction angles), through_share (of the junctions) and circuity of each.
 nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b);
 
 } // namespace ggg
