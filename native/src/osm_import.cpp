@@ -101,6 +101,8 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
             text = osm_detail::read_osm_text(path);
             osm_detail::check_osm_text(text, xml ? osm_detail::TextFormat::xml : osm_detail::TextFormat::opl, path);
             file = osmium::io::File(text.data(), text.size(), xml ? "osm" : "opl");
+        } else if (file.format() == osmium::io::file_format::pbf) {
+            osm_detail::check_pbf_framing(path);
         }
         const auto file_size = static_cast<double>(!text.empty() ? text.size() : std::max<std::uintmax_t>(1, std::filesystem::file_size(path, ec)));
         osmium::io::Reader reader(file, osmium::osm_entity_bits::node | osmium::osm_entity_bits::way);

@@ -354,3 +354,13 @@ TEST(Hardening, AnOutputThatIsNotARegularFileIsNeverReplaced) {
     EXPECT_THROW(check_output_path(dir), UsageError);
     EXPECT_EQ(files_in(dir), 2u);
 }
+
+// ---- fuzzing findings -----------------------------------------------------------------------
+
+TEST(Hardening, APbfBlobHeaderWithoutATypeIsAnErrorNotUndefinedBehaviour) {
+    // Found by the OSM fuzzer (native/fuzz): libosmium compares the missing type through a
+    // null pointer. Six bytes: a header of two bytes holding only a data size.
+    const std::string path = std::string(GGG_SOURCE_DIR) + "/native/tests/data/fuzz/osm_pbf_blob_header_without_type.osm.pbf";
+    ASSERT_TRUE(fs::exists(path));
+    expect_input_error(path, "the blob header at byte 0 has no type");
+}
