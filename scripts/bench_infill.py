@@ -1,0 +1,225 @@
+"""The infill test of synthesis (../shared/DESIGN.md, docs/synthesis.md): cut a square hole (30 %
+of the city's extent) out of a real city, learn the grammar of what is left with default
+options, grow the hole back with ggg.grow_region (default options, several seeds), and compare
+the grown streets with the real streets of the hole. The floor is another part of the same
+city: the ring of equal area around the hole, compared with the hole the same way.
+
+    PYTHONPATH=build/python /usr/bin/python3 scripts/bench_infill.py [--seeds 3] [--cities a,b] [--markdown]
+
+Needs ../shared/osm beside the project (OpenStreetMap extracts, (c) OpenStreetMap contributors,
+ODbL) and a build (bash scripts/build.sh). Prints one row per city and seed, and the mean per
+city; --markdown prints the table of docs/synthesis.md.
+"""
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import ggg
+
+OSM = Path(__file__).resolve().parent.parent.parent / "shared" / "osm"
+
+# A grid, an organic city, a medieval core, a hillside city with curved streets, a large metro.
+CITIES = {
+    "columbus_oh.osm.pbf": "grid",
+    "paris_marais.osm.pbf": "organic",
+    "rome_centre.osm": "medieval core",
+    "monaco.osm.pbf": "hillside, curved",
+    "porto_metro.osm.pbf": "large metro",
+}
+
+TARGETS = "fill 0.6-1.6; continued >= 0.85; joined >= 0.98; stars <= 0.01; right angles >= real - 0.08; " \
+          "dead ends <= real + 0.05; mean distance <= 1.5 x ring; no crossings"
+
+
+def subgraph(graph, keep_vertex, keep_edge=None):
+    """The graph on the vertices where keep_vertex is True and the edges between them (or the
+    edges where keep_edge is True, with their end vertices), as a new ggg.Graph."""
+    edges = np.asarray(graph.edges, dtype=np.int64)
+    if keep_edge is None:
+        keep_edge = keep_vertex[edges[:, 0]] & keep_vertex[edges[:, 1]]
+    used = np.zeros(graph.vertex_count, dtype=bool)
+    used[edges[keep_edge].ravel()] = True
+    used |= keep_vertex
+    index = np.full(graph.vertex_count, -1, dtype=np.int64)
+    index[used] = np.arange(int(used.sum()))
+    offsets, points = graph.edge_geometry()
+    kept = np.flatnonzero(keep_edge)
+    lines = [points[offsets[e]:offsets[e + 1]] for e in kept]
+    new_offsets = np.concatenate([[0], np.cumsum([len(line) for line in lines])]).astype(np.int64)
+    new_points = np.concatenate(lines) if lines else np.zeros((0, 2))
+    return ggg.Graph.from_arrays(graph.positions[used], index[edges[kept]], graph.origin_latlon,
+                                 edge_highway=np.asarray(graph.edge_highway)[kept],
+                                 edge_geometry=(new_offsets, new_points)), index
+
+
+def inside(points, x0, y0, x1, y1):
+    return (points[:, 0] >= x0) & (points[:, 0] <= x1) & (points[:, 1] >= y0) & (points[:, 1] <= y1)
+
+
+def components(n, edges):
+    parent = np.arange(n)
+
+    def find(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for a, b in edges:
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[ra] = rb
+    return np.array([find(v) for v in range(n)])
+
+
+def segments(graph, edge_ids):
+    offsets, points = graph.edge_geometry()
+    out = []
+    for e in edge_ids:
+        line = points[offsets[e]:offsets[e + 1]]
+        for i in range(len(line) - 1):
+            out.append((e, line[i], line[i + 1]))
+    return out
+
+
+def crossings(graph, new_edges):
+    """Pairs of streets (a grown one and any other) whose segments cross away from their ends:
+    two streets crossing without an intersection."""
+    edges = np.asarray(graph.edges)
+    new = segments(graph, new_edges)
+    if not new:
+        return 0
+    lo = np.min([np.minimum(a, b) for _e, a, b in new], axis=0) - 1.0
+    hi = np.max([np.maximum(a, b) for _e, a, b in new], axis=0) + 1.0
+    offsets, points = graph.edge_geometry()
+    near = [e for e in range(graph.edge_count)
+            if np.any(inside(points[offsets[e]:offsets[e + 1]], lo[0], lo[1], hi[0], hi[1]))]
+    others = segments(graph, near)
+    found = set()
+    for e, p, q in new:
+        for f, r, s in others:
+            if f == e or (f in new_edges and f < e) or set(edges[e]) & set(edges[f]):
+                continue
+            d1, d2 = q - p, s - r
+            denominator = d1[0] * d2[1] - d1[1] * d2[0]
+            if abs(denominator) < 1e-12:
+                continue
+            t = ((r[0] - p[0]) * d2[1] - (r[1] - p[1]) * d2[0]) / denominator
+            u = ((r[0] - p[0]) * d1[1] - (r[1] - p[1]) * d1[0]) / denominator
+            if 1e-6 < t < 1 - 1e-6 and 1e-6 < u < 1 - 1e-6:
+                found.add((min(e, f), max(e, f)))
+    return len(found)
+
+
+def measure(city, seeds):
+    graph = ggg.read_graph(str(OSM / city))
+    p = graph.positions
+    x0, y0 = p.min(axis=0)
+    x1, y1 = p.max(axis=0)
+    side = 0.3 * min(x1 - x0, y1 - y0)
+    cx, cy = np.median(p[:, 0]), np.median(p[:, 1])
+    hole = (cx - side / 2, cy - side / 2, cx + side / 2, cy + side / 2)
+    ring_half = side / 2 * math.sqrt(2.0)  # the ring has the hole's area
+    outer = (cx - ring_half, cy - ring_half, cx + ring_half, cy + ring_half)
+    in_hole = inside(p, *hole)
+    in_outer = inside(p, *outer)
+    edges = np.asarray(graph.edges)
+    rest, rest_index = subgraph(graph, ~in_hole)
+    # The real streets of the hole: every edge with an end inside it.
+    real, _ = subgraph(graph, np.zeros(graph.vertex_count, dtype=bool), in_hole[edges[:, 0]] | in_hole[edges[:, 1]])
+    ring, _ = subgraph(graph, np.zeros(graph.vertex_count, dtype=bool),
+                       (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~in_hole[edges[:, 0]] & ~in_hole[edges[:, 1]])
+    severed = edges[in_hole[edges[:, 0]] != in_hole[edges[:, 1]]]
+    border = np.unique(rest_index[np.where(in_hole[severed[:, 0]], severed[:, 1], severed[:, 0])])
+    t = time.perf_counter()
+    grammar, stats = ggg.learn(rest)
+    learn_seconds = time.perf_counter() - t
+    floor = ggg.compare(ring, real)
+    corners = np.array([[hole[0], hole[1]], [hole[2], hole[1]], [hole[2], hole[3]], [hole[0], hole[3]]])
+    rest_degree = np.bincount(np.asarray(rest.edges).ravel(), minlength=rest.vertex_count)
+    rows = []
+    for seed in seeds:
+        t = time.perf_counter()
+        grown, report = ggg.grow_region(rest, grammar, corners, seed=seed)
+        grow_seconds = time.perf_counter() - t
+        grown_edges = np.asarray(grown.edges)
+        new_edges = np.arange(rest.edge_count, grown.edge_count)
+        part, _ = subgraph(grown, np.zeros(grown.vertex_count, dtype=bool),
+                           np.arange(grown.edge_count) >= rest.edge_count)
+        degree = np.bincount(grown_edges.ravel(), minlength=grown.vertex_count)
+        continued = float(np.mean(degree[border] > rest_degree[border])) if len(border) else float("nan")
+        new_vertices = np.arange(rest.vertex_count, grown.vertex_count)
+        if len(new_vertices):
+            root = components(grown.vertex_count, grown_edges)
+            base_roots = set(root[:rest.vertex_count].tolist())
+            joined = float(np.mean([root[v] in base_roots for v in new_vertices]))
+        else:
+            joined = float("nan")
+        c = ggg.compare(part, real)
+        rows.append({
+            "city": city, "seed": seed, "fill": len(new_edges) / max(1, real.edge_count),
+            "continued": continued, "joined": joined,
+            "stars": c["a"]["star_share"], "real_stars": c["b"]["star_share"],
+            "right": c["a"]["right_angle_share"], "real_right": c["b"]["right_angle_share"],
+            "dead": c["a"]["dead_end_share"], "real_dead": c["b"]["dead_end_share"],
+            "deg2": c["a"]["degree2_share"], "real_deg2": c["b"]["degree2_share"],
+            "through": c["a"]["through_share"], "real_through": c["b"]["through_share"],
+            "circuity": c["a"]["circuity"], "real_circuity": c["b"]["circuity"],
+            "junction_angle": c["distances"]["junction_angle"],
+            "mean": c["distances"]["mean"], "ring_mean": floor["distances"]["mean"],
+            "crossings": crossings(grown, set(new_edges.tolist())),
+            "learn_s": learn_seconds, "grow_s": grow_seconds, "rules": stats["rules"],
+        })
+    return rows
+
+
+def fmt(x, digits=2):
+    return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else "{:.{}f}".format(x, digits)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=3)
+    parser.add_argument("--cities", default=",".join(CITIES))
+    parser.add_argument("--markdown", action="store_true")
+    args = parser.parse_args()
+    if not OSM.is_dir():
+        sys.exit("error: {} is absent: the infill test needs the shared OpenStreetMap extracts".format(OSM))
+    all_rows = []
+    for city in args.cities.split(","):
+        rows = measure(city, range(1, args.seeds + 1))
+        all_rows += rows
+        for r in rows:
+            print("{city} seed {seed}: fill {fill:.2f}, continued {continued:.2f}, joined {joined:.2f}, stars {stars:.3f} "
+                  "(real {real_stars:.3f}), right angles {right:.2f} (real {real_right:.2f}), dead ends {dead:.2f} "
+                  "(real {real_dead:.2f}), degree 2 {deg2:.2f} (real {real_deg2:.2f}), through {through:.2f} "
+                  "(real {real_through:.2f}), circuity {circuity} (real {real_circuity}), compare mean {mean:.3f} "
+                  "(ring {ring_mean:.3f}, {ratio:.1f}x), crossings {crossings}; learn {learn_s:.1f} s, grow {grow_s:.1f} s"
+                  .format(ratio=r["mean"] / max(r["ring_mean"], 1e-9), **r), flush=True)
+    if args.markdown:
+        print("\n| city | kind | fill | severed streets continued | grown vertices joined | star junctions (real) "
+              "| right angles (real) | dead ends (real) | degree 2 (real) | through streets (real) | circuity (real) "
+              "| compare mean / ring's | crossings |")
+        print("|---|---|" + "---:|" * 11)
+        for city in args.cities.split(","):
+            rows = [r for r in all_rows if r["city"] == city]
+
+            def mean(key):
+                values = [r[key] for r in rows if r[key] is not None and not math.isnan(r[key])]
+                return sum(values) / len(values) if values else float("nan")
+
+            print("| {} | {} | {} | {} | {} | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {}× | {} |".format(
+                city.split(".")[0], CITIES.get(city, ""), fmt(mean("fill")), fmt(mean("continued")), fmt(mean("joined")),
+                fmt(mean("stars"), 3), fmt(mean("real_stars"), 3), fmt(mean("right")), fmt(mean("real_right")),
+                fmt(mean("dead")), fmt(mean("real_dead")), fmt(mean("deg2")), fmt(mean("real_deg2")),
+                fmt(mean("through")), fmt(mean("real_through")), fmt(mean("circuity")), fmt(mean("real_circuity")),
+                fmt(mean("mean") / max(mean("ring_mean"), 1e-9), 1), sum(r["crossings"] for r in rows)))
+        print("\nTargets: " + TARGETS)
+
+
+if __name__ == "__main__":
+    main()
