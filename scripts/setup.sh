@@ -15,6 +15,9 @@ packages=(
   libgl1 libegl1 libglx-mesa0 libegl-mesa0 libgl1-mesa-dri
   # The 3-D city: Clipper polygon clipping (native), PIL for the docs pictures' palettes.
   libpolyclipping-dev python3-pil
+  # libFuzzer harnesses (cmake -DGGG_FUZZ=ON, scripts/fuzz.sh): clang 14 with its sanitizer
+  # runtimes; osmium-tool turns the OSM seed slices into PBF and OPL.
+  clang libclang-rt-14-dev osmium-tool
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -20,7 +20,8 @@ EdgeAttributes street() {
 GeometricGraph make_grid(const GridOptions& o) {
     GeometricGraph g;
     std::mt19937_64 rng(o.seed);
-    std::normal_distribution<double> noise(0.0, o.jitter * o.spacing);
+    // The standard library requires sigma > 0 (checked with _GLIBCXX_ASSERTIONS); unused when 0.
+    std::normal_distribution<double> noise(0.0, o.jitter > 0.0 ? o.jitter * o.spacing : 1.0);
     const double c = std::cos(o.angle_rad);
     const double s = std::sin(o.angle_rad);
     for (int j = 0; j < o.n; ++j) {

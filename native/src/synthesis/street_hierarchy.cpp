@@ -155,8 +155,12 @@ std::optional<Connector> plan_connector(const GeometricGraph& g, const StreetInd
     for (const auto& [at, e, where] : c.splits) chain.push_back({at, where, -1, static_cast<long>(e)});
     std::sort(chain.begin(), chain.end(), [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
     for (std::size_t i = 0; i + 1 < chain.size() && !blocked; ++i) {
-        const auto& [t0, x0, v0, e0] = chain[i];
-        const auto& [t1, x1, v1, e1] = chain[i + 1];
+        // Named variables rather than structured bindings, which the lambda below could not
+        // capture before clang 16 (the fuzz build, native/fuzz/, uses clang 14).
+        const Vec2& x0 = std::get<1>(chain[i]);
+        const Vec2& x1 = std::get<1>(chain[i + 1]);
+        const VertexId v0 = std::get<2>(chain[i]), v1 = std::get<2>(chain[i + 1]);
+        const long e0 = std::get<3>(chain[i]), e1 = std::get<3>(chain[i + 1]);
         if ((x1 - x0).norm() < 1e-9) return std::nullopt; // two crossings at one point
         index.segments_near(x0, x1, [&](std::size_t e, std::size_t k) {
             const auto [a, b] = g.edges[e];
