@@ -45,5 +45,8 @@ BENCHMARK_CAPTURE(import_file, porto_all_consolidate_10m, "porto_metro.osm.pbf",
 BENCHMARK_CAPTURE(import_file, rhein_neckar_all, "rhein_neckar_roads.osm.pbf", "all", 0.0)->Unit(benchmark::kMillisecond)->MinTime(3);
 BENCHMARK_CAPTURE(import_file, barcelona_all, "barcelona_eixample.osm", "all", 0.0)->Unit(benchmark::kMillisecond)->MinTime(1);
 BENCHMARK_CAPTURE(import_file, paris_all, "paris_marais.osm.pbf", "all", 0.0)->Unit(benchmark::kMillisecond)->MinTime(1);
+// Text formats are read whole and checked (coordinates, token lengths) before libosmium parses them.
+BENCHMARK_CAPTURE(import_file, rome_all_xml, "rome_centre.osm", "all", 0.0)->Unit(benchmark::kMillisecond)->MinTime(1);
+BENCHMARK_CAPTURE(import_file, krems_all_xml_gz, "krems_at.osm.gz", "all", 0.0)->Unit(benchmark::kMillisecond)->MinTime(1);
 
 BENCHMARK_MAIN();

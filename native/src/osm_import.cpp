@@ -105,7 +105,9 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
             osm_detail::check_pbf_framing(path);
         }
         const auto file_size = static_cast<double>(!text.empty() ? text.size() : std::max<std::uintmax_t>(1, std::filesystem::file_size(path, ec)));
-        osmium::io::Reader reader(file, osmium::osm_entity_bits::node | osmium::osm_entity_bits::way);
+        // Metadata (versions, timestamps, users) is not part of a road graph: not decoding it is faster
+        // and avoids libosmium's delta decoding of timestamps, which overflows on corrupt PBF (fuzzing).
+        osmium::io::Reader reader(file, osmium::osm_entity_bits::node | osmium::osm_entity_bits::way, osmium::io::read_meta::no);
         std::size_t buffers = 0;
         while (osmium::memory::Buffer buffer = reader.read()) {
             for (const auto& item : buffer) {

@@ -364,3 +364,17 @@ TEST(Hardening, APbfBlobHeaderWithoutATypeIsAnErrorNotUndefinedBehaviour) {
     ASSERT_TRUE(fs::exists(path));
     expect_input_error(path, "the blob header at byte 0 has no type");
 }
+
+TEST(Hardening, APbfWithTimestampsThatOverflowIsReadWithoutUndefinedBehaviour) {
+    // Found by the OSM fuzzer: libosmium's delta decoding of dense-node timestamps overflows a
+    // signed integer. The import reads no metadata (a road graph has none), so it never
+    // decodes them; under the sanitizer run (scripts/sanitize.sh) any overflow would abort.
+    const std::string path = std::string(GGG_SOURCE_DIR) + "/native/tests/data/fuzz/osm_pbf_dense_node_timestamp_overflow.osm.pbf";
+    ASSERT_TRUE(fs::exists(path));
+    try {
+        const GeometricGraph g = read_graph(path);
+        EXPECT_EQ(check_simple(g), "");
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
+    }
+}
