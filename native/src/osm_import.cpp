@@ -13,6 +13,7 @@
 #include <osmium/osm/way.hpp>
 
 #include "ggg/error.hpp"
+#include "ggg/io/files.hpp"
 #include "ggg/projection.hpp"
 #include "osm_text.hpp"
 
@@ -29,6 +30,26 @@ struct RawWay {
     std::int64_t ref_count;
     EdgeAttributes attributes;
 };
+
+// The value of `key` among `tags`, read within the list's own bytes. A PBF string that holds a
+// NUL byte (corrupt data libosmium does not refuse) misaligns the list's key\0value\0 pairs, and
+// libosmium's own lookup then reads past the list's end (fuzzing finding).
+const char* tag_value(const osmium::TagList& tags, const char* key) {
+    // A TagList is its Collection header followed by the strings (as Collection::cbegin has it).
+    static_assert(sizeof(osmium::TagList) == sizeof(osmium::memory::Collection<osmium::Tag, osmium::item_type::tag_list>));
+    const char* p = reinterpret_cast<const char*>(tags.data()) + sizeof(osmium::TagList);
+    const char* end = reinterpret_cast<const char*>(tags.data()) + tags.byte_size();
+    while (p < end) {
+        const char* key_end = static_cast<const char*>(std::memchr(p, 0, static_cast<std::size_t>(end - p)));
+        if (!key_end || key_end + 1 >= end) return nullptr;
+        const char* value = key_end + 1;
+        const char* value_end = static_cast<const char*>(std::memchr(value, 0, static_cast<std::size_t>(end - value)));
+        if (!value_end) return nullptr;
+        if (std::strcmp(p, key) == 0) return value;
+        p = value_end + 1;
+    }
+    return nullptr;
+}
 
 void check_readable(const std::string& path) {
     std::error_code ec;
@@ -102,7 +123,12 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
             osm_detail::check_osm_text(text, xml ? osm_detail::TextFormat::xml : osm_detail::TextFormat::opl, path);
             file = osmium::io::File(text.data(), text.size(), xml ? "osm" : "opl");
         } else if (file.format() == osmium::io::file_format::pbf) {
-            osm_detail::check_pbf_framing(path);
+            // Read whole, so that libosmium holds no file open: its PBF reader leaves the file's
+            // descriptor open when the data is corrupt (fuzzing), which a long-lived Blender
+            // session would pile up.
+            text = read_text_file(path);
+            osm_detail::check_pbf_framing(text, path);
+            file = osmium::io::File(text.data(), text.size(), "pbf");
         }
         const auto file_size = static_cast<double>(!text.empty() ? text.size() : std::max<std::uintmax_t>(1, std::filesystem::file_size(path, ec)));
         // Metadata (versions, timestamps, users) is not part of a road graph: not decoding it is faster
@@ -121,17 +147,18 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
                     nodes.emplace_back(node.id(), node.location());
                 } else if (item.type() == osmium::item_type::way) {
                     const auto& way = static_cast<const osmium::Way&>(item);
-                    const char* highway = way.tags()["highway"];
+                    const osmium::TagList& tags = way.tags();
+                    const char* highway = tag_value(tags, "highway");
                     if (!highway || !*highway) continue;
                     ++stats.highway_ways;
                     if (!options.highways.accepts(highway)) continue;
                     EdgeAttributes a;
                     a.highway = highway_from_name(highway);
-                    a.oneway = parse_oneway(way.tags()["oneway"], way.tags()["junction"], a.highway);
-                    a.lanes = parse_lanes(way.tags()["lanes"]);
-                    a.width_m = parse_width_m(way.tags()["width"]);
+                    a.oneway = parse_oneway(tag_value(tags, "oneway"), tag_value(tags, "junction"), a.highway);
+                    a.lanes = parse_lanes(tag_value(tags, "lanes"));
+                    a.width_m = parse_width_m(tag_value(tags, "width"));
                     a.way_id = way.id();
-                    if (const char* name = way.tags()["name"]) a.name = name;
+                    if (const char* name = tag_value(tags, "name")) a.name = name;
                     RawWay raw{way.id(), static_cast<std::int64_t>(refs.size()), 0, std::move(a)};
                     for (const auto& ref : way.nodes()) refs.push_back(ref.ref());
                     raw.ref_count = static_cast<std::int64_t>(refs.size()) - raw.first_ref;

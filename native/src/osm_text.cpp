@@ -185,26 +185,17 @@ std::string read_osm_text(const std::string& path) {
     return text;
 }
 
-void check_pbf_framing(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    struct stat info {};
-    if (!in || ::stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) return;
-    const auto size = static_cast<std::uint64_t>(info.st_size);
+void check_pbf_framing(std::string_view data, const std::string& name) {
+    const std::uint64_t size = data.size();
     std::uint64_t offset = 0;
-    std::string header;
     while (offset + 4 <= size) {
-        unsigned char length_bytes[4];
-        in.seekg(static_cast<std::streamoff>(offset));
-        if (!in.read(reinterpret_cast<char*>(length_bytes), 4)) return;
-        const std::uint32_t length = (std::uint32_t{length_bytes[0]} << 24) | (std::uint32_t{length_bytes[1]} << 16) |
-                                     (std::uint32_t{length_bytes[2]} << 8) | std::uint32_t{length_bytes[3]};
+        const auto* b = reinterpret_cast<const unsigned char*>(data.data() + offset);
+        const std::uint32_t length = (std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) | (std::uint32_t{b[2]} << 8) | std::uint32_t{b[3]};
         if (length == 0 || length > 64 * 1024 || offset + 4 + length > size) return; // libosmium reports these itself
-        header.resize(length);
-        if (!in.read(header.data(), length)) return;
         bool typed = false;
         std::int64_t datasize = 0;
         try {
-            protozero::pbf_reader message(header);
+            protozero::pbf_reader message(data.data() + offset + 4, length);
             while (message.next()) {
                 if (message.tag() == 1 && message.wire_type() == protozero::pbf_wire_type::length_delimited) {
                     typed = message.get_view().size() > 0;
@@ -218,7 +209,7 @@ void check_pbf_framing(const std::string& path) {
             return; // a malformed header: libosmium reports it
         }
         if (!typed) {
-            throw InputError(path + ": not a readable OSM file (PBF error: the blob header at byte " + std::to_string(offset) +
+            throw InputError(name + ": not a readable OSM file (PBF error: the blob header at byte " + std::to_string(offset) +
                              " has no type)");
         }
         if (datasize <= 0) return;

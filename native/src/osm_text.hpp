@@ -24,9 +24,9 @@ std::string read_osm_text(const std::string& path);
 // Throws InputError ("<name>: node 42: latitude '1e300' is out of range (-90 to 90)", ...).
 void check_osm_text(std::string_view text, TextFormat format, const std::string& name);
 
-// The framing of a PBF file (a regular one; a pipe is left to libosmium): every blob header
+// The framing of a PBF file, read whole into memory (files.hpp bounds it): every blob header
 // must name its type, which libosmium compares with a null pointer otherwise (undefined
 // behaviour found by fuzzing). Only the headers are read; the blobs are skipped.
-void check_pbf_framing(const std::string& path);
+void check_pbf_framing(std::string_view data, const std::string& name);
 
 } // namespace ggg::osm_detail

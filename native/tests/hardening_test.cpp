@@ -378,3 +378,35 @@ TEST(Hardening, APbfWithTimestampsThatOverflowIsReadWithoutUndefinedBehaviour) {
         EXPECT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
     }
 }
+
+TEST(Hardening, APbfStringWithANulByteDoesNotMisleadTheTagLookup) {
+    // Found by the OSM fuzzer: a string of the PBF string table holding a NUL byte misaligns
+    // libosmium's key/value pairs, and its tag lookup read past the end of the list. The
+    // import looks tags up within the list's bytes; the sanitizer run would catch a read past it.
+    const std::string path = std::string(GGG_SOURCE_DIR) + "/native/tests/data/fuzz/osm_pbf_string_with_nul_heap_overflow.osm.pbf";
+    ASSERT_TRUE(fs::exists(path));
+    try {
+        const GeometricGraph g = read_graph(path);
+        EXPECT_EQ(check_simple(g), "");
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
+    }
+}
+
+TEST(Hardening, ACorruptPbfLeavesNoFileOpen) {
+    // Found by the OSM fuzzer: libosmium's PBF reader left the file's descriptor open when the
+    // data was corrupt. The import reads the file whole and hands libosmium the bytes.
+    const std::string path = std::string(GGG_SOURCE_DIR) + "/native/tests/data/fuzz/osm_pbf_no_header_fd_leak.osm.pbf";
+    ASSERT_TRUE(fs::exists(path));
+    auto open_descriptors = [] {
+        return std::distance(fs::directory_iterator("/proc/self/fd"), fs::directory_iterator());
+    };
+    const auto before = open_descriptors();
+    for (int i = 0; i < 20; ++i) {
+        try {
+            read_graph(path);
+        } catch (const InputError&) {
+        }
+    }
+    EXPECT_EQ(open_descriptors(), before);
+}
