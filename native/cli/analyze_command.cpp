@@ -94,8 +94,8 @@ void AnalysisFlags::add_to(CLI::App& c) {
         ->check(whole_number(0, 100'000))
         ->capture_default_str();
     c.add_option("--max-seconds", max_seconds,
-                 "Time budget: stop growing patterns after this many seconds and keep what was found (0 = none)")
-        ->check(non_negative)
+                 "Time budget: stop growing patterns after this many seconds and keep what was found (0 = none; < 0: 120 with --max-order 0, else none)")
+        ->check(finite_number)
         ->capture_default_str();
     c.add_option("--max-memory", max_memory_mb,
                  "Memory budget in MB for the patterns held: stop growing them beyond it and keep what was found (0 = none)")

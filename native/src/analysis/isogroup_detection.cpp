@@ -969,7 +969,8 @@ public:
 
     bool out_of_time() const {
         const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start_;
-        return o_.max_seconds > 0 && elapsed.count() > o_.max_seconds;
+        const double budget = time_budget_seconds(o_);
+        return budget > 0 && elapsed.count() > budget;
     }
 
     bool spent(const DetectionResult& result, const std::vector<Isogroup>& growing, std::size_t extra_bytes) const {
@@ -1208,7 +1209,7 @@ void check_options(const DetectionOptions& o) {
     if (o.max_order < 0 || o.max_order == 1) fail("max_order: must be 0 (until nothing repeats) or at least 2, got " + std::to_string(o.max_order));
     if (o.max_order > max_pattern_order) fail("max_order: at most " + std::to_string(max_pattern_order) + ", got " + std::to_string(o.max_order));
     if (o.min_count < 1) fail("min_count: must be at least 1");
-    if (!(std::isfinite(o.max_seconds) && o.max_seconds >= 0.0)) fail("max_seconds: the time budget must be a number of seconds >= 0 (0 = none)");
+    if (!std::isfinite(o.max_seconds)) fail("max_seconds: the time budget must be a number of seconds (0 = none, < 0 = automatic)");
     if (!(std::isfinite(o.max_memory_mb) && o.max_memory_mb >= 0.0)) fail("max_memory_mb: the memory budget must be a number of megabytes >= 0 (0 = none)");
     if (!(o.merge_tolerance >= 0.0 && o.merge_tolerance < 1.0)) fail("merge_tolerance: must be in [0, 1), got " + std::to_string(o.merge_tolerance));
     if (!(o.scale_tolerance > 0.0 && o.scale_tolerance < 1.0)) fail("scale_tolerance: must be in (0, 1), got " + std::to_string(o.scale_tolerance));

@@ -223,7 +223,7 @@ private:
         AnalyzeOptions analysis_options = options_.analysis;
         if (seeded) analysis_options.seed = options_.seed;
         // The analysis budget is the whole learning's: each level gets what is left of it.
-        if (const double budget = options_.analysis.detection.max_seconds; budget > 0) {
+        if (const double budget = time_budget_seconds(options_.analysis.detection); budget > 0) {
             const double left = budget - seconds_since(start_);
             if (left <= 0) {
                 result_.stopped_by_budget = true;

@@ -68,15 +68,25 @@ struct DetectionOptions {
     // Stop growing (with stopped_by_budget set) before one order would hold more than
     // this many occurrence vertex ids, which bounds memory (4 bytes each).
     std::size_t max_occurrence_vertices = 200'000'000;
-    // Budgets that bound "until nothing repeats" (max_order 0) and any other run that grows
-    // without end: growing stops, with stopped_by_budget set and the groups found so far kept,
-    // once the detection has run this many seconds or its groups and candidates would take
-    // more than this many megabytes. The defaults fit a 2-core, 24 GB machine and are far
-    // beyond what the default analysis of a city needs (seconds, a few hundred megabytes).
-    // 0 = no limit.
-    double max_seconds = 120.0;
+    // Budgets that bound "until nothing repeats" (max_order 0), which on a city grows without
+    // end: growing stops, with stopped_by_budget set and the groups found so far kept, once the
+    // detection has run this many seconds or its groups and candidates would take more than
+    // this many megabytes. The defaults fit a 2-core, 24 GB machine and are far beyond what
+    // the default analysis of a city needs (seconds, a few hundred megabytes). 0 = no limit.
+    // The time budget, < 0 = automatic: default_time_budget_s with max_order 0, none with a
+    // largest order (which ends by itself), so that a bounded analysis gives the same result
+    // on a slow machine as on a fast one.
+    double max_seconds = -1.0;
     double max_memory_mb = 8192.0;
 };
+
+inline constexpr double default_time_budget_s = 120.0;
+
+// The time budget max_seconds stands for, in seconds (0 = none).
+inline double time_budget_seconds(const DetectionOptions& o) {
+    if (o.max_seconds >= 0) return o.max_seconds;
+    return o.max_order == 0 ? default_time_budget_s : 0.0;
+}
 
 // Throws UsageError naming the first bad option.
 void check_options(const DetectionOptions& options);
