@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <fstream>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include <osmium/io/any_compression.hpp>
 #include <osmium/io/file.hpp>
@@ -54,13 +56,15 @@ class Checker {
 public:
     explicit Checker(const std::string& name) : name_(name) {}
 
-    void coordinate(std::string_view node_id, std::string_view value, bool latitude) const {
+    // `where`: "node 42", "bounds", ...; `attribute`: its name, "lat", "minlon", ...
+    void coordinate(const std::string& where, std::string_view attribute, std::string_view value, bool latitude) const {
         const double x = coordinate_value(value);
-        const char* what = latitude ? "latitude" : "longitude";
+        const std::string what = attribute == "lat" || attribute == "lon" ? std::string(latitude ? "latitude" : "longitude")
+                                                                           : std::string(latitude ? "latitude " : "longitude ") + std::string(attribute);
         const double limit = latitude ? 90.0 : 180.0;
         std::string shown(value.substr(0, 40));
         if (value.size() > 40) shown += "...";
-        const std::string node = "node " + (node_id.empty() ? std::string("without an id") : std::string(node_id.substr(0, 24)));
+        const std::string& node = where;
         if (std::isnan(x)) throw InputError(name_ + ": " + node + ": " + what + " '" + shown + "' is not a number");
         if (!(std::abs(x) <= limit)) {
             throw InputError(name_ + ": " + node + ": " + what + " '" + shown + "' is out of range (" + std::to_string(static_cast<int>(-limit)) +
@@ -77,10 +81,14 @@ private:
     const std::string& name_;
 };
 
-// The attributes of one XML start tag `<node ...>`, between the name and the closing '>'.
-void check_xml_node(std::string_view element, const Checker& checker) {
-    std::string_view id, lat, lon;
-    bool have_lat = false, have_lon = false;
+bool is_latitude(std::string_view a) { return a == "lat" || a == "minlat" || a == "maxlat" || a == "min_lat" || a == "max_lat"; }
+bool is_longitude(std::string_view a) { return a == "lon" || a == "minlon" || a == "maxlon" || a == "min_lon" || a == "max_lon"; }
+
+// The coordinates among the attributes of one XML start tag (a node's lat and lon, the
+// bounds' and a changeset's corners), between the element's name and the closing '>'.
+void check_xml_coordinates(std::string_view name, std::string_view element, const Checker& checker) {
+    std::string_view id;
+    std::vector<std::pair<std::string_view, std::string_view>> coordinates;
     std::size_t i = 0;
     while (i < element.size()) {
         while (i < element.size() && is_space(element[i])) ++i;
@@ -101,11 +109,10 @@ void check_xml_node(std::string_view element, const Checker& checker) {
         const std::string_view value = element.substr(value_begin, i - value_begin);
         ++i;
         if (attribute == "id") id = value;
-        else if (attribute == "lat") lat = value, have_lat = true;
-        else if (attribute == "lon") lon = value, have_lon = true;
+        else if (is_latitude(attribute) || is_longitude(attribute)) coordinates.emplace_back(attribute, value);
     }
-    if (have_lat) checker.coordinate(id, lat, true);
-    if (have_lon) checker.coordinate(id, lon, false);
+    const std::string what = std::string(name.substr(0, 16)) + (id.empty() ? std::string() : " " + std::string(id.substr(0, 24)));
+    for (const auto& [attribute, value] : coordinates) checker.coordinate(what, attribute, value, is_latitude(attribute));
 }
 
 void check_xml(std::string_view text, const Checker& checker) {
@@ -120,8 +127,12 @@ void check_xml(std::string_view text, const Checker& checker) {
         if (end - open > max_xml_token_bytes) checker.too_long("an XML element", open);
         if (close == std::string_view::npos) break; // truncated: expat reports it
         const std::string_view element = text.substr(open + 1, close - open - 1);
-        if (element.size() > 4 && element.substr(0, 4) == "node" && (is_space(element[4]) || element[4] == '/')) {
-            check_xml_node(element.substr(4), checker);
+        // Only start tags that hold a coordinate attribute are taken apart.
+        if (!element.empty() && element[0] != '/' && element[0] != '?' && element[0] != '!' &&
+            (element.find("lat") != std::string_view::npos || element.find("lon") != std::string_view::npos)) {
+            std::size_t name_end = 0;
+            while (name_end < element.size() && !is_space(element[name_end]) && element[name_end] != '/') ++name_end;
+            check_xml_coordinates(element.substr(0, name_end), element.substr(name_end), checker);
         }
         i = close + 1;
     }
@@ -144,7 +155,7 @@ void check_opl(std::string_view text, const Checker& checker) {
                 const std::string_view token = line.substr(t, stop - t);
                 if (t == 0) id = token.substr(1);
                 else if (!token.empty() && (token[0] == 'x' || token[0] == 'y') && token.size() > 1) {
-                    checker.coordinate(id, token.substr(1), token[0] == 'y');
+                    checker.coordinate("node " + std::string(id.substr(0, 24)), token[0] == 'y' ? "lat" : "lon", token.substr(1), token[0] == 'y');
                 }
                 t = stop + 1;
             }

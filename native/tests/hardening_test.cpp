@@ -423,3 +423,11 @@ TEST(Hardening, APbfWithCoordinatesThatOverflowIsReadWithoutUndefinedBehaviour) 
         EXPECT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
     }
 }
+
+TEST(Hardening, BoundsOutOfRangeAreAnErrorToo) {
+    // Found by the OSM fuzzer: libosmium reads the corners of <bounds> with the same
+    // coordinate parser, which overflowed on an exponent.
+    const std::string path = std::string(GGG_SOURCE_DIR) + "/native/tests/data/fuzz/osm_xml_bounds_exponent_overflow.osm";
+    ASSERT_TRUE(fs::exists(path));
+    expect_input_error(path, "bounds: latitude minlat '1e32' is out of range (-90 to 90)");
+}
