@@ -11,3 +11,6 @@ if [ ! -d "$root/../shared/osm" ]; then
 fi
 (cd "$build" && ctest --output-on-failure --parallel "$(nproc)")
 bash "$root/scripts/run_blender_tests.sh" --zip "$root/dist/road_grammar.zip"
+# The library and its fast tests again under AddressSanitizer and UndefinedBehaviorSanitizer
+# (build-sanitize/; docs/reliability.md): any finding fails the run.
+bash "$root/scripts/sanitize.sh"

@@ -411,19 +411,6 @@ TEST(Hardening, ACorruptPbfLeavesNoFileOpen) {
     EXPECT_EQ(open_descriptors(), before);
 }
 
-TEST(Hardening, APbfWithCoordinatesThatOverflowIsReadWithoutUndefinedBehaviour) {
-    // Found by the OSM fuzzer: dense-node coordinates whose deltas overflow. The import must
-    // end in a graph or an InputError; the sanitizer run would abort on undefined behaviour.
-    const std::string path = std::string(GGG_SOURCE_DIR) + "/native/tests/data/fuzz/osm_pbf_dense_node_coordinate_overflow.osm.pbf";
-    ASSERT_TRUE(fs::exists(path));
-    try {
-        const GeometricGraph g = read_graph(path);
-        EXPECT_EQ(check_simple(g), "");
-    } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
-    }
-}
-
 TEST(Hardening, BoundsOutOfRangeAreAnErrorToo) {
     // Found by the OSM fuzzer: libosmium reads the corners of <bounds> with the same
     // coordinate parser, which overflowed on an exponent.

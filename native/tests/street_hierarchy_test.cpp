@@ -247,11 +247,14 @@ TEST(StreetHierarchy, MainRoadsOfColumbusMeetAcrossAGrownStrip) {
     const std::vector<Vec2> strip{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
     const GeometricGraph grown = grow_region(base, grammar, strip, o, &report);
     ASSERT_GT(report.placements, 20u);
-    // The same as growing without the hierarchy, then continuing it.
+    // The same as growing without the hierarchy, then continuing it in the same region (the
+    // main roads that end near it take part too).
     o.continue_hierarchy = false;
     const GeometricGraph flat = grow_region(base, grammar, strip, o);
     GeometricGraph continued = flat;
-    const HierarchyReport h = continue_hierarchy(continued, static_cast<EdgeId>(base.edge_count()));
+    HierarchyOptions in_strip_options;
+    in_strip_options.region = strip;
+    const HierarchyReport h = continue_hierarchy(continued, static_cast<EdgeId>(base.edge_count()), in_strip_options);
     ASSERT_EQ(continued.edges, grown.edges);
     ASSERT_EQ(continued.edge_highway, grown.edge_highway);
     EXPECT_EQ(h.routes, report.main_road_routes);
