@@ -52,7 +52,7 @@ void bind_synthesis(py::module_& m) {
             o.seed = seed_arg(seed);
             o.max_placements = count_arg("max_placements", max_placements, 1);
             o.max_vertices = count_arg("max_vertices", max_vertices, 1);
-            o.patience = count_arg("patience", patience, 1);
+            o.patience = count_arg("patience", patience); // 0: only the rules placed by hand
             o.border_m = border_m;
             o.continue_hierarchy = hierarchy;
             if (placements) {

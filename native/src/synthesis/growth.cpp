@@ -772,7 +772,6 @@ void check_options(const GrowOptions& o) {
     };
     if (o.max_placements < 1) fail("max_placements", "at least 1");
     if (o.max_vertices < 1) fail("max_vertices", "at least 1");
-    if (o.patience < 1) fail("patience", "at least 1");
     if (!std::isfinite(o.border_m)) fail("border_m", "a finite number of metres (< 0: 5 % of the region's size)");
     finite_at_least("snap", o.snap, 0);
     finite_at_least("spacing", o.spacing, 0);
@@ -801,13 +800,13 @@ GeometricGraph grow_region(const GeometricGraph& base, const Grammar& grammar, c
         if (!region[i].allFinite()) throw UsageError("the region's corners must be finite numbers");
         area += cross(region[j], region[i]);
     }
-    // No area: corners on a line (which a map projection bends by a hair) or a sliver thinner
-    // than a metre on average.
+    // No area: corners on a line, which a map projection bends by a hair (a region ten
+    // thousand times as long as it is wide). A small region is not refused: nothing fits in it.
     double extent = 0.0;
     for (const Vec2& p : region) extent = std::max(extent, (p - region.front()).norm());
     const double region_area = std::abs(area) / 2.0;
-    if (!(extent > 0) || !(region_area > 1e-4 * extent * extent) || !(region_area / extent >= 1.0)) {
-        throw UsageError("the region has no area (its corners lie on a line, or it is thinner than a metre)");
+    if (!(extent > 0) || !(region_area > 1e-4 * extent * extent)) {
+        throw UsageError("the region has no area (its corners lie on a line)");
     }
     check_options(options);
     GrowReport r;

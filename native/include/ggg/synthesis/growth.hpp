@@ -38,7 +38,8 @@ struct GrowOptions {
     std::uint64_t seed = 1;
     std::size_t max_placements = 200; // rules placed at most
     std::size_t max_vertices = 200'000; // the whole graph, base included
-    // Placements tried in a row without success after which the region counts as filled.
+    // Placements tried in a row without success after which the region counts as filled (0:
+    // only the rules placed by hand are placed).
     std::size_t patience = 150;
     // A base vertex this close to the region (metres; < 0: 5 % of the region's size) is a
     // street that reaches it.
