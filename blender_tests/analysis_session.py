@@ -84,7 +84,8 @@ def window_context():
 
 
 def running():
-    from road_grammar import analysis_ops, learning_ops
+    from road_grammar.operators import analysis as analysis_ops
+    from road_grammar.operators import learning as learning_ops
     return bool(analysis_ops.running) or bool(learning_ops.running)
 
 
@@ -169,7 +170,7 @@ def _after_analysis():
         bm = bmesh.from_edit_mesh(obj.data)
         for element in (*bm.verts, *bm.edges):
             element.select = False
-        from road_grammar import analysis
+        from road_grammar.data import analysis
         index = next(i for i, item in enumerate(obj.road_analysis.isogroups)
                      if item.order == 4 and item.edge_count == 4)
         occurrences, _, _ = analysis.isogroup_arrays(obj, index)
@@ -204,7 +205,7 @@ def _after_learning():
 def _slow_down():
     """Make each progress report take a while, so that Esc comes during the analysis (or
     the learning)."""
-    from road_grammar import jobs
+    from road_grammar.core import jobs
     original = jobs.NativeJob.__call__
     result["progress_calls"] = 0
 

@@ -29,7 +29,10 @@ M_PER_DEG_LAT = 111_195.0
 
 # The add-on is enabled by run.py before pytest starts.
 import road_grammar  # noqa: E402
-from road_grammar import importer, native, operators, preferences  # noqa: E402,F401
+from road_grammar.core import native  # noqa: E402,F401
+from road_grammar.core.names import GRAPH_KEY, SURFACE_KEY  # noqa: E402,F401
+from road_grammar.operators import importer as import_ops  # noqa: E402,F401
+from road_grammar.data import preferences  # noqa: E402,F401
 
 DATA_COLLECTIONS = ("objects", "meshes", "materials", "node_groups", "collections", "curves",
                     "cameras", "lights", "images", "texts")
@@ -153,7 +156,7 @@ def cancel_at_first_progress(monkeypatch, job_class):
 @pytest.fixture
 def execute_results(monkeypatch):
     """The values the import operator's execute() returned, in order."""
-    return record_executes(monkeypatch, operators.ROADS_OT_import_osm)
+    return record_executes(monkeypatch, import_ops.ROADS_OT_import_osm)
 
 
 def snapshot():
@@ -170,8 +173,8 @@ def import_roads(path, **options):
 
 def road_objects():
     """(graph object, surface object) of the only import in the scene."""
-    graphs = [o for o in bpy.context.scene.objects if o.get(importer.GRAPH_KEY)]
-    surfaces = [o for o in bpy.context.scene.objects if o.get(importer.SURFACE_KEY)]
+    graphs = [o for o in bpy.context.scene.objects if o.get(GRAPH_KEY)]
+    surfaces = [o for o in bpy.context.scene.objects if o.get(SURFACE_KEY)]
     assert len(graphs) == 1 and len(surfaces) <= 1
     return graphs[0], (surfaces[0] if surfaces else None)
 

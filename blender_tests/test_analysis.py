@@ -11,7 +11,14 @@ import pytest
 
 from conftest import (SIZE, SPACING, PanelLayout, cancel_at_first_progress, draw_panel, record_executes,
                       run_analysis_session, snapshot, write_grid)
-from road_grammar import analysis, analysis_ops, analysis_panels, importer, mesh_build, pattern_display
+from road_grammar.core.names import SURFACE_EDGE, SYMBOL
+from road_grammar.core.palette import MATCH_SLOT, PALETTE_SIZE, SEED_SLOT, slot_color_linear
+from road_grammar.core.topology import seed_problem
+from road_grammar.data import analysis, roads
+from road_grammar.data import mesh as mesh_build
+from road_grammar.display import patterns as pattern_display
+from road_grammar.operators import analysis as analysis_ops
+from road_grammar.ui import patterns as patterns_ui
 
 # The tests run on the street grid of conftest.write_grid (the fixture grid): SIZE x SIZE
 # streets SPACING apart, and two dead-end spurs that belong to no square.
@@ -120,7 +127,7 @@ def test_analyze_finds_every_square(grid, op_results, reports):
     # The overview colours edges by isogroup, drawn by a child object that renders (the
     # graph itself still does not).
     slots = pattern_display.read_slots(grid)
-    assert slots.max() >= 1 and slots.max() <= pattern_display.PALETTE_SIZE
+    assert slots.max() >= 1 and slots.max() <= PALETTE_SIZE
     child = pattern_display.patterns_object(grid)
     assert child is not None and child.name == "grid Patterns" and child.parent == grid
     assert pattern_display.find_modifier(child) is not None and child.hide_select and not child.hide_render
@@ -161,7 +168,7 @@ def test_choosing_an_item_selects_its_occurrences(grid):
         slots = pattern_display.read_slots(grid)
         mesh_edges = {tuple(sorted(e)): i for i, e in enumerate(mesh_build.edge_vertices(grid.data).tolist())}
         own = {mesh_edges[tuple(sorted((o[a], o[b])))] for o in occurrences.tolist() for a, b in pattern_edges.tolist()}
-        slot = result.isogroups[index].color_slot or pattern_display.MATCH_SLOT
+        slot = result.isogroups[index].color_slot or MATCH_SLOT
         assert set(np.flatnonzero(slots).tolist()) == own and set(slots[list(own)].tolist()) == {slot}
     # In Edit Mode too.
     select_only(grid, [])
@@ -221,7 +228,7 @@ def test_analyze_with_a_seed_in_edit_mode(grid, reports):
 def test_analyze_in_edit_mode_reads_the_edit_mesh_symbols(grid, ggg):
     """Blender's attribute data is empty in Edit Mode: the vertex symbols come from the edit
     mesh (a graph with a nonterminal attribute was refused before)."""
-    mesh_build.set_attribute(grid.data, importer.SYMBOL, 'INT', 'POINT', np.zeros(len(grid.data.vertices)))
+    mesh_build.set_attribute(grid.data, SYMBOL, 'INT', 'POINT', np.zeros(len(grid.data.vertices)))
     bpy.ops.object.mode_set(mode='EDIT')
     topology = analysis.MeshTopology(grid)
     assert topology.symbols is not None and len(topology.symbols) == len(grid.data.vertices)
@@ -278,9 +285,9 @@ def test_find_similar_selects_every_square(grid, reports, op_results):
     assert edges == induced_edges(grid, vertices)
     slots = pattern_display.read_slots(grid)
     seed_edges = induced_edges(grid, set(seed))
-    assert set(np.flatnonzero(slots == pattern_display.SEED_SLOT).tolist()) == seed_edges
+    assert set(np.flatnonzero(slots == SEED_SLOT).tolist()) == seed_edges
     square_edges = induced_edges(grid, set(grid_cells(grid)))
-    assert set(np.flatnonzero(slots == pattern_display.MATCH_SLOT).tolist()) == square_edges - seed_edges
+    assert set(np.flatnonzero(slots == MATCH_SLOT).tolist()) == square_edges - seed_edges
     assert np.count_nonzero(slots) == len(square_edges)  # the spurs stay uncoloured
     assert op_results == [{'FINISHED'}]
 
@@ -350,7 +357,7 @@ def test_find_similar_native_bug_guard(ggg):
     its message stays clear while the library does so."""
     positions = np.array([[0.0, 0.0], [100.0, 0.0], [100.0, 100.0]])
     graph = ggg.Graph.from_arrays(positions, np.array([[0, 1], [1, 2]]))
-    assert analysis.seed_problem(graph.edges, [0, 2]).startswith("No street joins")
+    assert seed_problem(graph.edges, [0, 2]).startswith("No street joins")
     with pytest.raises(ggg.UsageError):
         ggg.find_similar(graph, [0, 2])
 
@@ -437,7 +444,7 @@ def test_display_ribbons(grid):
     midpoints = sorted(map(tuple, np.round((positions[edges[:, 0]] + positions[edges[:, 1]]) / 2 + (1000, 500), 1)))
     assert sorted(tuple(np.round(t[:2], 1)) for _, t, _ in ribbons) == midpoints
     color = pattern_display.material(slot).diffuse_color
-    assert tuple(color)[:3] == pytest.approx(pattern_display.slot_color_linear(slot))
+    assert tuple(color)[:3] == pytest.approx(slot_color_linear(slot))
 
 
 def _ribbon_midpoints(obj):
@@ -454,8 +461,8 @@ def test_display_follows_the_road_surface(grid):
     mesh = grid.data
     edges = mesh_build.edge_vertices(mesh)
     positions = mesh_build.positions_xy(mesh)
-    surface = importer.surface_object(grid)
-    owner = mesh_build.read_attribute(surface.data, importer.SURFACE_EDGE, np.int64)
+    surface = roads.surface_object(grid)
+    owner = mesh_build.read_attribute(surface.data, SURFACE_EDGE, np.int64)
     curved = int(np.argmax(np.bincount(owner)))
     assert np.bincount(owner)[curved] == 3
     straight = next(i for i in range(len(edges)) if i != curved)
@@ -497,17 +504,17 @@ def test_display_follows_the_road_surface(grid):
 # --- the panel -------------------------------------------------------------------------------
 
 def test_panels_draw(grid):
-    assert "Analyze grid" in draw_panel(analysis_panels.VIEW3D_PT_roads_patterns)
-    assert "Not analysed yet" in draw_panel(analysis_panels.VIEW3D_PT_roads_isogroups)
+    assert "Analyze grid" in draw_panel(patterns_ui.VIEW3D_PT_roads_patterns)
+    assert "Not analysed yet" in draw_panel(patterns_ui.VIEW3D_PT_roads_isogroups)
     assert bpy.ops.roads.analyze(max_order=4) == {'FINISHED'}
     grid.road_analysis.active_index = square_group(grid)
-    text = draw_panel(analysis_panels.VIEW3D_PT_roads_isogroups)
+    text = draw_panel(patterns_ui.VIEW3D_PT_roads_isogroups)
     assert "{} isogroups, ".format(grid.road_analysis.listed) in text and "max\norder 4" in text
     assert "4 vertices, 4 edges" in text and "16 occurrences" in text and "4 non-overlapping" in text
     labels = []
     item = grid.road_analysis.isogroups[square_group(grid)]
     ui_list = SimpleNamespace(layout_type='DEFAULT')
-    analysis_panels.ROADS_UL_isogroups.draw_item(ui_list, bpy.context, PanelLayout(labels), None, item, 0, None, "")
+    patterns_ui.ROADS_UL_isogroups.draw_item(ui_list, bpy.context, PanelLayout(labels), None, item, 0, None, "")
     assert labels == ["4", "16", "4", "{:.0f}".format(item.gain)]
 
 

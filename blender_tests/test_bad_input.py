@@ -96,7 +96,7 @@ def test_no_bpy_data_leaks_after_many_failures(tmp_path, execute_results, ggg):
 
 def test_failure_while_building_leaves_nothing(monkeypatch, ggg, paris):
     """An unexpected error after the read (here: making the modifier) removes what was built."""
-    from road_grammar import surface
+    from road_grammar.display import surface
 
     def broken_add_modifier(obj, group, mat):
         raise MemoryError("simulated failure while building the surface")

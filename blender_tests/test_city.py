@@ -7,7 +7,12 @@ import numpy as np
 import pytest
 
 from conftest import import_roads, snapshot, write_osm
-from road_grammar import city, city_ops, graph_edit
+from road_grammar.core.city import FLOOR_HEIGHT_M, road_widths
+from road_grammar.core.names import CITY_KEY, CITY_PART_KEY
+from road_grammar.data import graph_edit
+from road_grammar.display import city
+from road_grammar.display.nodes import input_sockets
+from road_grammar.operators import city as city_ops
 
 TINY = dict(engine='BLENDER_EEVEE', resolution_x=80, resolution_y=48, samples=1)
 
@@ -37,7 +42,7 @@ def town(sample_city, ggg):
 
 
 def _parts(collection):
-    return {obj[city.CITY_PART_KEY]: obj for obj in collection.objects}
+    return {obj[CITY_PART_KEY]: obj for obj in collection.objects}
 
 
 def _evaluated_positions(obj):
@@ -73,7 +78,7 @@ def test_build_city_makes_the_planned_objects(town, ggg):
 
     columns = graph_edit.MeshGraph(town)
     graph = columns.graph(ggg)
-    widths = city.road_widths(columns, ggg, graph)
+    widths = road_widths(columns, ggg, graph)
     plan = ggg.city_layout(graph, half_widths=widths / 2.0, sidewalk_m=3.0, seed=3)
     faces = ggg.planar_faces(graph)
     assert len(plan["faces"]["face_area"]) == len(faces["face_area"]) == collection["faces"]
@@ -98,7 +103,7 @@ def test_build_city_makes_the_planned_objects(town, ggg):
     positions, polygons = _evaluated_positions(parts["buildings"])
     assert polygons > 4 * collection["buildings"]  # roof + at least 4 walls each
     height = positions[:, 2] - city.YARD_Z
-    assert height.max() > 3.0 and height.max() < 60 * city.FLOOR_HEIGHT_M + 2.0
+    assert height.max() > 3.0 and height.max() < 60 * FLOOR_HEIGHT_M + 2.0
     offsets, points = graph.edge_geometry()
     owner = np.repeat(np.arange(graph.edge_count), np.diff(offsets))
     last = np.r_[offsets[1:] - 1]
@@ -126,7 +131,7 @@ def test_rebuild_replaces_the_city_and_the_seed_changes_heights(town):
     first = _evaluated_positions(_parts(city.find_collection(town))["buildings"])[0]
     objects = len(bpy.data.objects)
     assert bpy.ops.roads.build_city(seed=1) == {'FINISHED'}
-    assert len([c for c in bpy.data.collections if c.get(city.CITY_KEY)]) == 1
+    assert len([c for c in bpy.data.collections if c.get(CITY_KEY)]) == 1
     assert len(bpy.data.objects) == objects
     np.testing.assert_array_equal(_evaluated_positions(_parts(city.find_collection(town))["buildings"])[0], first)
     assert bpy.ops.roads.build_city(seed=2) == {'FINISHED'}
@@ -139,7 +144,7 @@ def test_height_scale_is_non_destructive(town):
     buildings = _parts(city.find_collection(town))["buildings"]
     top = _evaluated_positions(buildings)[0][:, 2].max()
     modifier = buildings.modifiers[city.EXTRUDE_GROUP_NAME]
-    scale = next(s for s in city.surface._input_sockets(modifier.node_group) if s.name == "Height Scale")
+    scale = next(s for s in input_sockets(modifier.node_group) if s.name == "Height Scale")
     modifier[scale.identifier] = 2.0
     buildings.data.update()
     assert _evaluated_positions(buildings)[0][:, 2].max() - city.YARD_Z == pytest.approx(2.0 * (top - city.YARD_Z),

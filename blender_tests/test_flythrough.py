@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 
 from conftest import import_roads, snapshot, write_osm
-from road_grammar import city_ops, flythrough, mesh_build
+from road_grammar.core import flythrough
+from road_grammar.data import mesh as mesh_build
+from road_grammar.operators import city as city_ops
 
 MAX_TURN_DEG = 3.0  # per frame at 24 fps
 

@@ -8,7 +8,8 @@ import pytest
 from mathutils import Vector
 
 from conftest import SAMPLE_CITY, import_roads, write_osm
-from road_grammar import georef, importer
+from road_grammar.core import georef
+from road_grammar.core.names import SURFACE_KEY
 
 
 def _grid(path, lat0, lon0, first_id, n=4, step=0.002):
@@ -81,7 +82,7 @@ def test_second_import_lines_up_with_the_first(tmp_path, ggg):
     east_xy = _world_xy(east)[list(ggg.read_graph(str(second)).vertex_osm_ids).index(shared_second)]
     assert east_xy == pytest.approx(west_xy, abs=0.01)
     assert np.linalg.norm(east_xy) > 100.0
-    surface = next(c for c in east.children if c.get(importer.SURFACE_KEY))
+    surface = next(c for c in east.children if c.get(SURFACE_KEY))
     assert surface.matrix_world == east.matrix_world
 
 

@@ -10,7 +10,12 @@ import numpy as np
 import pytest
 
 from conftest import REPO, edge_attribute, import_roads, snapshot, write_osm
-from road_grammar import frames, grammar, grammar_ops, importer, mesh_build
+from road_grammar.core.names import NAME, SOURCE_KEY, SURFACE_EDGE
+from road_grammar.core.polylines import segment_polylines
+from road_grammar.data import mesh as mesh_build
+from road_grammar.data import roads, texts
+from road_grammar.display import frames
+from road_grammar.operators import grammar as grammar_ops
 
 SIERPINSKI = REPO / "samples" / "sierpinski.grammar.json"
 CLI = REPO / "build" / "bin" / "ggg"
@@ -129,8 +134,8 @@ def test_load_grammar_keeps_it_in_a_text(ggg, op_results):
     assert text is not None and text.name == "sierpinski.grammar.json"
     assert text.as_string() == SIERPINSKI.read_text(encoding="utf-8")
     assert text.use_fake_user  # saved in the .blend even when no scene uses it
-    assert text[grammar.SOURCE_KEY] == str(SIERPINSKI)
-    _, parsed = grammar.active(bpy.context)
+    assert text[SOURCE_KEY] == str(SIERPINSKI)
+    _, parsed = texts.active(bpy.context)
     assert parsed.name == "sierpinski" and [r["name"] for r in parsed.rules] == ["P"]
     # Loading the same file again refreshes that text, it makes no copy.
     assert load() == {'FINISHED'}
@@ -175,7 +180,7 @@ def test_edited_text_is_used_and_a_broken_edit_is_reported(tmp_path, ggg, op_res
     edited = json.loads(text.as_string())
     edited["name"] = "renamed"
     text.from_string(json.dumps(edited))
-    assert grammar.active(bpy.context)[1].name == "renamed"
+    assert texts.active(bpy.context)[1].name == "renamed"
     text.from_string("{oops")
     before = snapshot()
     with pytest.raises(RuntimeError, match="not a valid grammar"):
@@ -205,7 +210,7 @@ def test_add_axiom(ggg):
     np.testing.assert_array_equal(symbols, axiom.vertex_symbols)
     np.testing.assert_allclose(ab, axiom.vertex_frames[:, :2], rtol=1e-6, atol=1e-3)
     assert obj["road_graph"] == 1 and obj["grammar"] == "sierpinski"
-    assert obj.name == "sierpinski" and importer.surface_object(obj) is not None
+    assert obj.name == "sierpinski" and roads.surface_object(obj) is not None
     # The grammar's origin becomes the scene's georeference.
     scene = bpy.context.scene
     assert (scene["lat"], scene["lon"]) == pytest.approx((46.0, 8.95))
@@ -224,7 +229,7 @@ def test_grow_matches_the_cli(steps, tmp_path, ggg, op_results):
     assert len(obj.data.vertices) == expected["vertices"] == 3 ** (steps + 1)
     assert len(obj.data.edges) == expected["edges"] == 3 ** (steps + 1)
     # The surface is rebuilt: one segment per (straight) edge.
-    surface_obj = importer.surface_object(obj)
+    surface_obj = roads.surface_object(obj)
     assert len(surface_obj.data.edges) == expected["edges"]
     assert op_results[-1] == {'FINISHED'}
 
@@ -263,7 +268,7 @@ def test_place_rule_at_the_cursor_then_grow(ggg):
     assert bpy.context.view_layer.objects.active is None
     assert bpy.ops.roads.place_rule(rule='P', scale=200.0) == {'FINISHED'}
     obj = bpy.context.active_object
-    assert obj["road_graph"] == 1 and importer.surface_object(obj) is not None
+    assert obj["road_graph"] == 1 and roads.surface_object(obj) is not None
     positions, edges, symbols, ab = graph_arrays(obj)
     np.testing.assert_allclose(positions, [[120.0, -40.0]])
     assert len(edges) == 0 and symbols.tolist() == [1]
@@ -402,7 +407,7 @@ def test_grow_keeps_imported_roads(tmp_path, ggg, prefs):
     path = write_osm(tmp_path / "streets.osm", nodes, ways)
     assert import_roads(path, highways='ALL') == {'FINISHED'}
     obj = bpy.context.active_object
-    surface_obj = importer.surface_object(obj)
+    surface_obj = roads.surface_object(obj)
     old_surface = len(surface_obj.data.edges)
     positions = np.array([v.co[:2] for v in obj.data.vertices])
     anchor = positions[np.argmax(positions[:, 0])]  # the east end of the secondary road (node 4)
@@ -481,7 +486,7 @@ def test_import_derived_graph_file_keeps_nonterminals(tmp_path, ggg):
 
 
 def test_kept_edges_follow_source_vertices():
-    from road_grammar import graph_edit
+    from road_grammar.core.topology import kept_edges
 
     old_edges = np.array([[0, 3], [1, 2], [3, 4], [2, 1]])  # edge 3 runs beside edge 1
     # New vertices 0..3 are old 3, 0, 1, 2; vertex 4 was placed (old vertex 4 was rewritten).
@@ -489,23 +494,23 @@ def test_kept_edges_follow_source_vertices():
     new_edges = np.array([[1, 0], [2, 3], [0, 4], [1, 2], [4, 2]])
     # Old edge 0 and old edge 1 (the first of the two between 1 and 2) are kept; edges at
     # the placed vertex and between vertices no old edge joined are new.
-    np.testing.assert_array_equal(graph_edit.kept_edges(old_edges, source, new_edges), [0, 1, -1, -1, -1])
-    assert graph_edit.kept_edges(np.zeros((0, 2)), source, new_edges).tolist() == [-1] * 5
+    np.testing.assert_array_equal(kept_edges(old_edges, source, new_edges), [0, 1, -1, -1, -1])
+    assert kept_edges(np.zeros((0, 2)), source, new_edges).tolist() == [-1] * 5
 
 
 def surface_lines(obj):
     """The polyline of each graph edge in the surface of ``obj``, as stored (float32)."""
-    mesh = importer.surface_object(obj).data
+    mesh = roads.surface_object(obj).data
     co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
     mesh.vertices.foreach_get("co", co)
-    offsets, points = mesh_build.segment_polylines(co.reshape(-1, 3)[:, :2], mesh_build.edge_vertices(mesh),
-                                                   edge_attribute(mesh, importer.SURFACE_EDGE, np.int64),
+    offsets, points = segment_polylines(co.reshape(-1, 3)[:, :2], mesh_build.edge_vertices(mesh),
+                                                   edge_attribute(mesh, SURFACE_EDGE, np.int64),
                                                    len(obj.data.edges))
     return [points[offsets[i]:offsets[i + 1]] for i in range(len(obj.data.edges))]
 
 
 def edge_names(obj):
-    return mesh_build.read_strings(obj.data, importer.NAME, 'EDGE')
+    return mesh_build.read_strings(obj.data, NAME, 'EDGE')
 
 
 def test_grow_keeps_two_roads_that_end_at_one_place(tmp_path, ggg, prefs):
@@ -718,7 +723,8 @@ class _Layout:
 def test_grammar_panel_draws(tmp_path, ggg, state):
     from types import SimpleNamespace
 
-    from road_grammar import panels
+    from road_grammar.ui import grammar as grammar_ui
+    from road_grammar.ui import roads as roads_ui
 
     if state != "none":
         assert load() == {'FINISHED'}
@@ -726,8 +732,8 @@ def test_grammar_panel_draws(tmp_path, ggg, state):
     if state == "broken":
         bpy.context.scene.road_grammar.text.from_string("[]")
     labels = []
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=_Layout(labels)), bpy.context)
-    panels.VIEW3D_PT_roads.draw(SimpleNamespace(layout=_Layout(labels)), bpy.context)
+    grammar_ui.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=_Layout(labels)), bpy.context)
+    roads_ui.VIEW3D_PT_roads.draw(SimpleNamespace(layout=_Layout(labels)), bpy.context)
     text = "\n".join(labels)
     if state == "none":
         assert "No grammar loaded" in text

@@ -13,7 +13,13 @@ import numpy as np
 import pytest
 
 from conftest import PanelLayout, activate, import_roads, record_executes, snapshot
-from road_grammar import grammar, grammar_ops, graph_edit, importer, mesh_build, region
+from road_grammar.core.columns import induced_subgraph
+from road_grammar.core.growth import placements_that_fit
+from road_grammar.core.names import SURFACE_EDGE
+from road_grammar.core.polygons import closed_loops, contains, signed_area
+from road_grammar.data import graph_edit, region, roads, texts
+from road_grammar.data import mesh as mesh_build
+from road_grammar.operators import region as region_ops
 
 # The region, in the graph's frame (metres): east of the sample town, which spans x -747..747.
 X0, X1, Y0, Y1 = 700.0, 1500.0, -600.0, 600.0
@@ -33,7 +39,7 @@ def town(town):
 @pytest.fixture
 def op_results(monkeypatch):
     """What roads.grow_region's execute() returned (bpy.ops raises on ERROR reports)."""
-    return record_executes(monkeypatch, grammar_ops.ROADS_OT_grow_region)
+    return record_executes(monkeypatch, region_ops.ROADS_OT_grow_region)
 
 
 def link(obj):
@@ -81,8 +87,8 @@ def expected(ggg, obj, corners, **options):
     """ggg.grow_region on the streets of ``obj`` (as the mesh holds them) with the scene's
     grammar: (grown graph, report)."""
     old = graph_edit.MeshGraph(obj)
-    streets, _ids, _edges = graph_edit.induced_subgraph(ggg, old.graph(ggg), old.symbols == 0)
-    _text, parsed = grammar.active(bpy.context)
+    streets, _ids, _edges = induced_subgraph(ggg, old.graph(ggg), old.symbols == 0)
+    _text, parsed = texts.active(bpy.context)
     return ggg.grow_region(streets, parsed, np.asarray(corners, dtype=np.float64), **options)
 
 
@@ -107,7 +113,7 @@ def test_grow_into_a_rectangle(town, ggg, reports, op_results, kind):
                   "poly curve": lambda: poly_curve()}[kind]()
     activate(town)
     positions, edges = arrays(town)
-    mesh, surface_obj = town.data, importer.surface_object(town)
+    mesh, surface_obj = town.data, roads.surface_object(town)
     grown, report = expected(ggg, town, RECTANGLE, seed=1)
     assert report["added_vertices"] > 20 and report["added_edges"] > 20  # the town's grammar grows here
 
@@ -120,7 +126,7 @@ def test_grow_into_a_rectangle(town, ggg, reports, op_results, kind):
     assert "{} from the border".format(report["border_connections"]) in message and "seed 1" in message
 
     # In place: same object, name and mesh datablock; the base first, then the grown streets.
-    assert town.name == "sample_city" and town.data == mesh and importer.surface_object(town) == surface_obj
+    assert town.name == "sample_city" and town.data == mesh and roads.surface_object(town) == surface_obj
     new_positions, new_edges = arrays(town)
     assert len(new_positions) == len(positions) + report["added_vertices"]
     assert len(new_edges) == len(edges) + report["added_edges"]
@@ -136,7 +142,7 @@ def test_grow_into_a_rectangle(town, ggg, reports, op_results, kind):
     defaults = ggg.default_widths()
     width = mesh_build.read_attribute(mesh, "width", np.float64)
     np.testing.assert_allclose(width[len(edges):], [defaults[classes[c]] for c in highway[len(edges):]], rtol=1e-6)
-    owner = mesh_build.read_attribute(surface_obj.data, importer.SURFACE_EDGE, np.int64)
+    owner = mesh_build.read_attribute(surface_obj.data, SURFACE_EDGE, np.int64)
     assert set(owner.tolist()) == set(range(len(new_edges)))
     assert surface_obj.modifiers and surface_obj.modifiers[0].node_group is not None
     assert town["total_length_m"] == pytest.approx(grown.total_length_m, rel=1e-5)
@@ -245,14 +251,14 @@ def nonterminals(obj):
 def test_placed_rules_grow_first(town, ggg, reports):
     """With Use Placed Rules, a nonterminal in the region is grown first and becomes
     streets; one outside does not fit and stays as it was (a warning says so)."""
-    _text, parsed = grammar.active(bpy.context)
+    _text, parsed = texts.active(bpy.context)
     rule = parsed.rules[0]
     place(rule["name"], 1100.0, 0.0, 20.0)
     place(rule["name"], -2000.0, 0.0)
     count = len(town.data.vertices)
     assert len(nonterminals(town)) == 2
     old = graph_edit.MeshGraph(town)
-    streets, _ids, _edges = graph_edit.induced_subgraph(ggg, old.graph(ggg), old.symbols == 0)
+    streets, _ids, _edges = induced_subgraph(ggg, old.graph(ggg), old.symbols == 0)
     a, b = old.frames[count - 2, :2]
     placed = (rule["symbol"], 1100.0, 0.0, math.hypot(a, b), math.degrees(math.atan2(b, a)))
     assert placed[3] == pytest.approx(80.0) and placed[4] == pytest.approx(20.0)
@@ -280,7 +286,7 @@ def test_placed_rules_grow_first(town, ggg, reports):
 
 def test_placed_rules_left_alone(town, ggg, reports):
     """Without Use Placed Rules, the nonterminals stay as they are and growth leaves them out."""
-    _text, parsed = grammar.active(bpy.context)
+    _text, parsed = texts.active(bpy.context)
     place(parsed.rules[0]["name"], 1100.0, 0.0)
     count = len(town.data.vertices)
     before = nonterminals(town)
@@ -299,7 +305,7 @@ def test_placed_rules_left_alone(town, ggg, reports):
 def test_placed_rule_without_a_frame_and_one_without_a_rule(town, ggg):
     """A nonterminal whose frame has no scale grows at its rule's learned size; one whose
     symbol has no rule in the grammar is left as it is."""
-    _text, parsed = grammar.active(bpy.context)
+    _text, parsed = texts.active(bpy.context)
     rule = parsed.rules[0]
     place(rule["name"], 1100.0, 0.0)
     place(rule["name"], 900.0, 400.0)
@@ -308,7 +314,7 @@ def test_placed_rule_without_a_frame_and_one_without_a_rule(town, ggg):
     mesh.attributes["frame_a"].data[count - 2].value = 0.0  # no scale: the unit frame for Grow
     mesh.attributes["frame_b"].data[count - 2].value = 0.0
     mesh.attributes["symbol"].data[count - 1].value = 99  # no such rule
-    streets, _ids, _edges = graph_edit.induced_subgraph(ggg, graph_edit.MeshGraph(town).graph(ggg),
+    streets, _ids, _edges = induced_subgraph(ggg, graph_edit.MeshGraph(town).graph(ggg),
                                                         np.arange(count) < count - 2)
     grown, report = ggg.grow_region(streets, parsed, RECTANGLE, seed=1,
                                     placements=[(rule["symbol"], 1100.0, 0.0, 0.0, 0.0)])
@@ -322,12 +328,12 @@ def test_placed_rule_without_a_frame_and_one_without_a_rule(town, ggg):
 
 
 def test_placements_that_fit(town, ggg):
-    _text, parsed = grammar.active(bpy.context)
+    _text, parsed = texts.active(bpy.context)
     old = graph_edit.MeshGraph(town)
     streets = old.graph(ggg)
     symbol = parsed.rules[0]["symbol"]
     inside, outside = (symbol, 1100.0, 0.0, 0.0, 0.0), (symbol, -3000.0, 0.0, 0.0, 0.0)
-    fits = grammar_ops.placements_that_fit
+    fits = placements_that_fit
     assert fits(ggg, streets, parsed, RECTANGLE, []) == []
     assert fits(ggg, streets, parsed, RECTANGLE, [inside]) == [True]
     assert fits(ggg, streets, parsed, RECTANGLE, [outside, inside, outside]) == [False, True, False]
@@ -396,10 +402,10 @@ def test_bad_region_changes_nothing(town, ggg, reports, op_results, case):
     make, kind, expected_text = BAD_REGIONS[case]
     region_obj = make()
     activate(town)
-    before = mesh_state(town), mesh_state(importer.surface_object(town)), snapshot()
+    before = mesh_state(town), mesh_state(roads.surface_object(town)), snapshot()
     _cancelled_with(lambda: bpy.ops.roads.grow_region(region=region_obj.name), kind, expected_text, reports,
                     op_results)
-    assert (mesh_state(town), mesh_state(importer.surface_object(town)), snapshot()) == before
+    assert (mesh_state(town), mesh_state(roads.surface_object(town)), snapshot()) == before
 
 
 def test_no_region(town, ggg, reports, op_results):
@@ -409,7 +415,7 @@ def test_no_region(town, ggg, reports, op_results):
     _cancelled_with(lambda: bpy.ops.roads.grow_region(region="Nowhere"), 'ERROR', "No object named 'Nowhere'",
                     reports, op_results)
     # The graph's own surface is not a region.
-    surface_obj = importer.surface_object(town)
+    surface_obj = roads.surface_object(town)
     _cancelled_with(lambda: bpy.ops.roads.grow_region(region=surface_obj.name), 'ERROR',
                     "is part of a road graph", reports, op_results)
     # A region picked, then deleted (the picker still holds it).
@@ -477,14 +483,14 @@ def test_vertex_budget(town, ggg, reports, op_results):
 def test_the_panel_button_takes_the_settings(town, ggg):
     from types import SimpleNamespace
 
-    from road_grammar import panels
+    from road_grammar.ui import grammar as grammar_ui
 
     settings = bpy.context.scene.road_grammar
     region_obj = mesh_region()
     settings.region, settings.region_seed, settings.region_max_placements = region_obj, 7, 40
     settings.region_patience, settings.region_max_vertices, settings.region_use_placed = 60, 5000, False
     labels, buttons = [], []
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
+    grammar_ui.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Grow into Region" in labels
     grow = next(properties for idname, properties in buttons if idname == "roads.grow_region")
     assert grow == {"region": "Region", "seed": 7, "max_placements": 40, "patience": 60, "max_vertices": 5000,
@@ -492,22 +498,22 @@ def test_the_panel_button_takes_the_settings(town, ggg):
     assert bpy.ops.roads.grow_region(**grow) == {'FINISHED'}
     # The picker lists curves and meshes that are not part of a road graph.
     assert region.is_candidate(region_obj) and not region.is_candidate(town)
-    assert not region.is_candidate(importer.surface_object(town))
+    assert not region.is_candidate(roads.surface_object(town))
     settings.region = None
     labels.clear()
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
+    grammar_ui.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Or select a curve or mesh with the graph" in labels
 
 
 def test_closed_loops_and_area():
-    loops = region.closed_loops(np.array([[0, 1], [1, 2], [2, 0], [3, 4], [5, 3], [4, 5]]))
+    loops = closed_loops(np.array([[0, 1], [1, 2], [2, 0], [3, 4], [5, 3], [4, 5]]))
     assert [sorted(loop.tolist()) for loop in loops] == [[0, 1, 2], [3, 4, 5]]
-    assert region.closed_loops(np.array([[2, 0], [0, 1], [1, 3], [3, 2]]))[0].tolist() == [0, 2, 3, 1]
+    assert closed_loops(np.array([[2, 0], [0, 1], [1, 3], [3, 2]]))[0].tolist() == [0, 2, 3, 1]
     with pytest.raises(region.RegionError, match="2 open ends"):
-        region.closed_loops(np.array([[0, 1], [1, 2]]))
-    assert region.signed_area(RECTANGLE) == pytest.approx(800.0 * 1200.0)
-    assert region.signed_area(RECTANGLE[::-1]) == pytest.approx(-800.0 * 1200.0)
-    assert region.contains(RECTANGLE, [[1000.0, 0.0], [0.0, 0.0], [1499.0, 599.0]]).tolist() == [True, False, True]
+        closed_loops(np.array([[0, 1], [1, 2]]))
+    assert signed_area(RECTANGLE) == pytest.approx(800.0 * 1200.0)
+    assert signed_area(RECTANGLE[::-1]) == pytest.approx(-800.0 * 1200.0)
+    assert contains(RECTANGLE, [[1000.0, 0.0], [0.0, 0.0], [1499.0, 599.0]]).tolist() == [True, False, True]
 
 
 def test_the_largest_outline_is_the_region(town, ggg, reports):

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from conftest import edge_attribute, evaluated_mesh_arrays, import_roads, road_objects
-from road_grammar import operators
+from road_grammar.operators import importer as import_ops
+from road_grammar.ui import roads as roads_ui
 
 
 def _check_import(path, ggg, **options):
@@ -132,13 +133,13 @@ def test_two_imports_share_node_group_and_material(paris, ggg):
 
 def test_undo_flag():
     """The operator is undoable: its type carries UNDO (test_undo.py runs a real undo)."""
-    assert {'REGISTER', 'UNDO'} <= set(operators.ROADS_OT_import_osm.bl_options)
+    assert {'REGISTER', 'UNDO'} <= set(import_ops.ROADS_OT_import_osm.bl_options)
 
 
 def test_menu_and_panel_registered():
     assert hasattr(bpy.types, "ROADS_OT_import_osm")
     assert hasattr(bpy.types, "VIEW3D_PT_roads")
-    assert operators.menu_import in bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
+    assert roads_ui.menu_import in bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
 
 
 def test_surface_area_matches_widths(paris, ggg):

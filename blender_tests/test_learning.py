@@ -13,8 +13,15 @@ import pytest
 
 from conftest import (PanelLayout, cancel_at_first_progress, draw_panel, record_executes, run_analysis_session,
                       snapshot)
-from road_grammar import (analysis, grammar, learning, learning_ops, learning_panels, mesh_build, pattern_display,
-                          rule_display)
+from road_grammar.core.names import LEARNED_FROM_KEY
+from road_grammar.core.palette import DIMMED_SLOT
+from road_grammar.core.text import plural
+from road_grammar.data import analysis, learning, texts
+from road_grammar.data import mesh as mesh_build
+from road_grammar.display import patterns as pattern_display
+from road_grammar.display import rules as rule_display
+from road_grammar.operators import learning as learning_ops
+from road_grammar.ui import learning as learning_ui
 
 
 @pytest.fixture
@@ -92,7 +99,7 @@ def test_learn_the_sample_town(town, ggg, op_results, reports, mode):
     # The Text is the scene's grammar and parses to a learned grammar with the stats' numbers.
     text = bpy.context.scene.road_grammar.text
     assert text is not None and text == result.text and text.name == "sample_city.grammar.json"
-    assert text.use_fake_user and text.get(learning.LEARNED_FROM_KEY) == town.name
+    assert text.use_fake_user and text.get(LEARNED_FROM_KEY) == town.name
     parsed = text_grammar(ggg, text)
     assert parsed.learned and parsed.mode == stats["mode"]
     assert len(parsed.rules) == stats["rules"] > 0
@@ -107,7 +114,7 @@ def test_learn_the_sample_town(town, ggg, op_results, reports, mode):
     assert sum(item.uses for item in result.rules) == stats["instances"]
     kind, message = next(r for r in reports() if r[1].startswith("Learned"))
     assert kind == 'INFO' and message.startswith("Learned a grammar of sample_city ({})".format(mode.lower()))
-    assert "{}, {}".format(learning.plural(stats["rules"], "rule"), learning.plural(stats["levels"], "level")) \
+    assert "{}, {}".format(plural(stats["rules"], "rule"), plural(stats["levels"], "level")) \
         in message and "round trip" in message
     if mode == 'LOSSLESS':
         assert stats["roundtrip"]["edges_equal"] is True
@@ -141,7 +148,7 @@ def test_the_panel_button_takes_the_settings(town, ggg):
     settings.mode, settings.max_order, settings.levels = 'LOSSLESS', 4, 1
     buttons = []
     layout = PanelLayout([], buttons)
-    learning_panels.VIEW3D_PT_roads_learn.draw(SimpleNamespace(layout=layout), bpy.context)
+    learning_ui.VIEW3D_PT_roads_learn.draw(SimpleNamespace(layout=layout), bpy.context)
     learn = next(properties for idname, properties in buttons if idname == "roads.learn")
     assert learn == {name: getattr(settings, name) for name in learning_ops.ROADS_OT_learn._FROM_SETTINGS}
     assert bpy.ops.roads.learn(**learn) == {'FINISHED'}
@@ -170,7 +177,7 @@ def test_learned_grammar_works_with_the_grammar_operators(town, ggg, tmp_path):
     assert bpy.ops.roads.save_grammar(filepath=str(path)) == {'FINISHED'}
     written = ggg.read_grammar(str(path))
     assert written.learned and [r["name"] for r in written.rules] == [r["name"] for r in parsed.rules]
-    assert [item[0] for item in grammar.rule_items(None, bpy.context)] == [r["name"] for r in parsed.rules]
+    assert [item[0] for item in texts.rule_items(None, bpy.context)] == [r["name"] for r in parsed.rules]
     vertices = len(town.data.vertices)
     rule = parsed.rules[0]["name"]
     assert bpy.ops.roads.place_rule(rule=rule, scale=50.0) == {'FINISHED'}
@@ -349,7 +356,7 @@ def test_choosing_a_rule_highlights_its_instances(town, ggg, op_results, reports
     marker_rules, marker_slots = arrays[rule_display.MARKER_RULE], arrays[rule_display.MARKER_SLOT]
     mine = marker_rules == item.symbol
     assert mine.any() and (marker_slots[mine] == item.color_slot).all()
-    assert (marker_slots[(marker_rules > 0) & ~mine] == rule_display.DIMMED_SLOT).all()
+    assert (marker_slots[(marker_rules > 0) & ~mine] == DIMMED_SLOT).all()
     # Another level keeps the highlight; All Rules shows every colour again.
     result.level = 0
     result.level = top
@@ -445,24 +452,24 @@ def test_slider_is_fast_on_a_larger_graph(ggg):
 # --- the panels ---------------------------------------------------------------------------
 
 def test_panels_draw(town, ggg):
-    assert "Learn from sample_city" in draw_panel(learning_panels.VIEW3D_PT_roads_learn)
-    assert "Nothing learned yet" in draw_panel(learning_panels.VIEW3D_PT_roads_learned_rules)
+    assert "Learn from sample_city" in draw_panel(learning_ui.VIEW3D_PT_roads_learn)
+    assert "Nothing learned yet" in draw_panel(learning_ui.VIEW3D_PT_roads_learned_rules)
     assert bpy.ops.roads.learn(mode='LOSSLESS') == {'FINISHED'}
     result = town.road_learning
     stats = json.loads(result.stats)
     result.active_rule = 0
-    text = draw_panel(learning_panels.VIEW3D_PT_roads_learned_rules)
-    assert "{}, {}".format(learning.plural(stats["rules"], "rule"), learning.plural(stats["levels"], "level")) in text
+    text = draw_panel(learning_ui.VIEW3D_PT_roads_learned_rules)
+    assert "{}, {}".format(plural(stats["rules"], "rule"), plural(stats["levels"], "level")) in text
     assert "Round trip: same edges" in text and "sample_city.grammar.json" in text
     assert "of {}".format(stats["levels"]) in text and "Not the scene's grammar" not in text
     item = result.rules[0]
     assert "{} (symbol {}), level {}".format(item.name, item.symbol, item.level) in text
     labels = []
     ui_list = SimpleNamespace(layout_type='DEFAULT')
-    learning_panels.ROADS_UL_learned_rules.draw_item(ui_list, bpy.context, PanelLayout(labels), None, item, 0, None, "")
+    learning_ui.ROADS_UL_learned_rules.draw_item(ui_list, bpy.context, PanelLayout(labels), None, item, 0, None, "")
     assert labels == [item.name, str(item.level), str(item.uses), str(item.vertex_count)]
     bpy.context.scene.road_grammar.text = None
-    assert "Not the scene's grammar" in draw_panel(learning_panels.VIEW3D_PT_roads_learned_rules)
+    assert "Not the scene's grammar" in draw_panel(learning_ui.VIEW3D_PT_roads_learned_rules)
 
 
 # --- the modal run, in a Blender with a window ---------------------------------------------

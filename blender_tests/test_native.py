@@ -10,7 +10,8 @@ import pytest
 
 import road_grammar
 from conftest import import_roads, snapshot
-from road_grammar import native, operators
+from road_grammar.core import native
+from road_grammar.ui import roads as roads_ui
 
 
 def test_module_loads(ggg):
@@ -100,4 +101,4 @@ def test_register_unregister_round_trip():
     road_grammar.register()
     assert hasattr(bpy.types, "ROADS_OT_import_osm")
     entries = bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
-    assert entries.count(operators.menu_import) == 1
+    assert entries.count(roads_ui.menu_import) == 1

@@ -9,13 +9,15 @@ import numpy as np
 import pytest
 
 from conftest import record_executes, snapshot
-from road_grammar import analysis_ops, grammar_ops, learning_ops
+from road_grammar.operators import analysis as analysis_ops
+from road_grammar.operators import learning as learning_ops
+from road_grammar.operators import region as region_ops
 
 
 @pytest.fixture
 def op_results(monkeypatch):
     return record_executes(monkeypatch, analysis_ops.ROADS_OT_analyze, learning_ops.ROADS_OT_learn,
-                           grammar_ops.ROADS_OT_grow_region)
+                           region_ops.ROADS_OT_grow_region)
 
 
 def _state(obj):

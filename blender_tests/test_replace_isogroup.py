@@ -15,7 +15,11 @@ from mathutils import Vector
 
 from conftest import SIZE, SPACING, activate, draw_panel, record_executes, snapshot, write_grid
 from test_analysis import grid_cells, select_only
-from road_grammar import analysis, graph_edit, importer, mesh_build, pattern_display, replacement, replacement_ops
+from road_grammar.core.names import SURFACE_EDGE
+from road_grammar.data import analysis, graph_edit, replacement, roads
+from road_grammar.data import mesh as mesh_build
+from road_grammar.display import patterns as pattern_display
+from road_grammar.operators import replacement as replacement_ops
 
 RING = 8  # vertices of the ring piece
 
@@ -260,7 +264,7 @@ def test_replace_the_squares_by_a_ring(grid, ggg, reports, op_results):
     assert bpy.ops.roads.store_replacement(object=piece_obj.name) == {'FINISHED'}
     positions, edges = arrays(grid)
     old_highway = mesh_build.read_attribute(grid.data, "highway", np.int64)
-    mesh, surface_obj = grid.data, importer.surface_object(grid)
+    mesh, surface_obj = grid.data, roads.surface_object(grid)
     piece_positions, piece_edges = in_graph_frame(piece_obj, grid)
     out, report, iso = expected_replacement(ggg, grid, index, piece_positions, piece_edges)
     occurrences, chosen, _ = analysis.isogroup_arrays(grid, index)
@@ -284,7 +288,7 @@ def test_replace_the_squares_by_a_ring(grid, ggg, reports, op_results):
     assert (report["removed_vertices"], report["added_vertices"]) == (16, 4 * RING)
 
     # Exactly what ggg.replace_isogroup gives, in place (same object and mesh datablock).
-    assert grid.data == mesh and importer.surface_object(grid) == surface_obj
+    assert grid.data == mesh and roads.surface_object(grid) == surface_obj
     new_positions, new_edges = arrays(grid)
     assert (len(new_positions), len(new_edges)) == (out.vertex_count, out.edge_count)
     assert len(new_positions) == len(positions) - 16 + 4 * RING
@@ -358,7 +362,7 @@ def test_replace_the_squares_by_a_ring(grid, ggg, reports, op_results):
     assert not result.has_result() and len(result.isogroups) == 0 and analysis.OCCURRENCES not in result
     assert result.active_index == -1 and not result.options
     assert pattern_display.ATTRIBUTE not in grid.data.attributes and pattern_display.patterns_object(grid) is None
-    surface_owner = mesh_build.read_attribute(surface_obj.data, importer.SURFACE_EDGE, np.int64)
+    surface_owner = mesh_build.read_attribute(surface_obj.data, SURFACE_EDGE, np.int64)
     assert set(surface_owner.tolist()) == set(range(len(new_edges)))
     assert grid["total_length_m"] == pytest.approx(out.total_length_m, rel=1e-5)
 
@@ -555,17 +559,17 @@ def test_replace_needs_a_road_graph(grid, op_results):
 # --- the panel ---------------------------------------------------------------------------------------
 
 def test_panel_draws(grid):
-    from road_grammar import analysis_panels
+    from road_grammar.ui import patterns as patterns_ui
 
-    text = draw_panel(analysis_panels.VIEW3D_PT_roads_replace)
+    text = draw_panel(patterns_ui.VIEW3D_PT_roads_replace)
     assert "No piece stored" in text and "Analyze first" in text
     index = analysed(grid)
     assert bpy.ops.roads.store_replacement(object=ring_object(radius=25.0).name) == {'FINISHED'}
-    text = draw_panel(analysis_panels.VIEW3D_PT_roads_replace)
+    text = draw_panel(patterns_ui.VIEW3D_PT_roads_replace)
     assert "8 vertices, 8 streets" in text and "46.2 x 46.2 m as drawn" in text and "from Piece" in text
     assert "Isogroup {}: 4 vertices".format(index + 1) in text and "4 non-overlapping occurrences" in text
     grid.road_analysis.active_index = -1
-    assert "Choose an isogroup in the list" in draw_panel(analysis_panels.VIEW3D_PT_roads_replace)
+    assert "Choose an isogroup in the list" in draw_panel(patterns_ui.VIEW3D_PT_roads_replace)
 
 
 # --- the sample town -----------------------------------------------------------------------------------

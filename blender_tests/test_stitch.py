@@ -20,7 +20,12 @@ import pytest
 
 import road_grammar
 from conftest import PanelLayout, import_roads, snapshot
-from road_grammar import grammar, graph_edit, importer, mesh_build, stitch_ops
+from road_grammar.core.columns import joined
+from road_grammar.core.grammar import rule_of
+from road_grammar.core.names import GRAPH_KEY, RULE_GRAMMAR, RULE_GRAMMARS_KEY, SURFACE_EDGE
+from road_grammar.data import graph_edit, roads, texts
+from road_grammar.data import mesh as mesh_build
+from road_grammar.operators import stitch as stitch_ops
 
 HERE = Path(__file__).resolve().parent
 OFFSET = 1800.0  # the second town, east of the first (the town spans x -747..747)
@@ -94,7 +99,7 @@ def mesh_state(obj):
 
 
 def scene_state(*objs):
-    return [mesh_state(o) for o in objs] + [mesh_state(importer.surface_object(o)) for o in objs] + [snapshot()]
+    return [mesh_state(o) for o in objs] + [mesh_state(roads.surface_object(o)) for o in objs] + [snapshot()]
 
 
 REPORT = re.compile(r"Stitched (\S+) and (\S+) in (\S+): ([\d,]+) rules? of \1, ([\d,]+) rules? of \2, ([\d,]+) "
@@ -118,11 +123,11 @@ def expected(ggg, first, second, seed=1, share=0.5, **options):
     """What Stitch Cities should make, computed with ggg directly: the two towns' streets
     one after the other (the second moved by the offset), grown into the gap with the first
     town's grammar (its share of what it would place alone) and then the second's."""
-    old = graph_edit.joined(ggg, graph_edit.MeshGraph(first), graph_edit.MeshGraph(second),
+    old = joined(ggg, graph_edit.MeshGraph(first), graph_edit.MeshGraph(second),
                             np.array(first.matrix_world.inverted() @ second.matrix_world))
     base = old.graph(ggg)
-    _ta, parsed_a = grammar.of_text(first.road_learning.text)
-    _tb, parsed_b = grammar.of_text(second.road_learning.text)
+    _ta, parsed_a = texts.of_text(first.road_learning.text)
+    _tb, parsed_b = texts.of_text(second.road_learning.text)
     options["continue_hierarchy"] = False  # (once, after both)
     alone, report_a = ggg.grow_region(base, parsed_a, GAP, seed=seed, **options)
     limit = max(1, int(round(share * report_a["placements"])))
@@ -144,8 +149,8 @@ def test_stitch_two_towns(towns, ggg, reports, op_results):
     width = np.concatenate([mesh_build.read_attribute(o.data, "width", np.float64) for o in (first, second)])
     names = [n for o in (first, second) for n in mesh_build.read_strings(o.data, "name", 'EDGE') or []]
     n_a, n_b, e_a, e_b = len(positions_a), len(positions_b), len(edges_a), len(edges_b)
-    mesh, surface_obj = first.data, importer.surface_object(first)
-    second_name, second_surface = second.name, importer.surface_object(second).name
+    mesh, surface_obj = first.data, roads.surface_object(first)
+    second_name, second_surface = second.name, roads.surface_object(second).name
     second_rules = [child.name for child in second.children]
     assert len(second_rules) >= 2  # its surface and its Rules display (Learn)
 
@@ -158,10 +163,10 @@ def test_stitch_two_towns(towns, ggg, reports, op_results):
     assert "seed 1 and 2" in message
 
     # One object now: the first, same name and mesh; the second is gone with its children.
-    assert first.name == "sample_city" and first.data == mesh and importer.surface_object(first) == surface_obj
+    assert first.name == "sample_city" and first.data == mesh and roads.surface_object(first) == surface_obj
     assert second_name not in bpy.data.objects and second_surface not in bpy.data.objects
     assert not any(name in bpy.data.objects for name in second_rules)
-    assert [o.name for o in bpy.context.scene.objects if o.get(importer.GRAPH_KEY)] == ["sample_city"]
+    assert [o.name for o in bpy.context.scene.objects if o.get(GRAPH_KEY)] == ["sample_city"]
     assert bpy.context.view_layer.objects.active == first
 
     # Both towns' vertices, in their places (the second moved by its object's offset), then the new ones.
@@ -184,7 +189,7 @@ def test_stitch_two_towns(towns, ggg, reports, op_results):
     on_b = ((new >= n_a) & (new < n_a + n_b)).any(axis=1)
     assert int(on_a.sum()) == from_a > 0 and int(on_b.sum()) == from_b > 0
     # The surface has every street, the second town's polylines moved with it.
-    owner = mesh_build.read_attribute(surface_obj.data, importer.SURFACE_EDGE, np.int64)
+    owner = mesh_build.read_attribute(surface_obj.data, SURFACE_EDGE, np.int64)
     assert set(owner.tolist()) == set(range(len(edges)))
     surface_points = mesh_build.positions_xy(surface_obj.data)
     assert surface_points[:, 0].max() > OFFSET + 700.0
@@ -369,7 +374,7 @@ def test_bad_input_cancels_and_changes_nothing(sample_city, towns, ggg, reports,
     _cancelled_with(lambda: stitch(region="Nowhere"), 'ERROR', "No object named 'Nowhere'", reports, op_results)
     _cancelled_with(lambda: stitch(other="Gap", region="Gap"), 'ERROR', "'Gap' is not another road graph",
                     reports, op_results)
-    surface_name = importer.surface_object(second).name
+    surface_name = roads.surface_object(second).name
     _cancelled_with(lambda: stitch(region=surface_name), 'ERROR', "is part of a road graph", reports, op_results)
     line = bpy.data.meshes.new("Line")
     line.from_pydata([(800.0, 0.0, 0.0), (900.0, 0.0, 0.0)], [(0, 1)], [])
@@ -433,7 +438,7 @@ def _renamed(text, prefix):
 
 
 def test_place_rule_with_the_second_towns_grammar(towns, ggg, reports):
-    from road_grammar import panels
+    from road_grammar.ui import grammar as grammar_ui
 
     first, second, region_obj = towns
     text_a, text_b = first.road_learning.text, second.road_learning.text
@@ -441,8 +446,8 @@ def test_place_rule_with_the_second_towns_grammar(towns, ggg, reports):
     settings = bpy.context.scene.road_grammar
     settings.text = text_a  # the scene's grammar is the first town's
     rule = names_b[-1]
-    symbol_b = grammar.rule_of(grammar.of_text(text_b)[1], rule)["symbol"]
-    assert grammar.rule_of(grammar.of_text(text_a)[1], rule) is None
+    symbol_b = rule_of(texts.of_text(text_b)[1], rule)["symbol"]
+    assert rule_of(texts.of_text(text_a)[1], rule) is None
     cursor = bpy.context.scene.cursor
     cursor.location = (900.0, 0.0, 0.0)
     activate(first)
@@ -452,9 +457,9 @@ def test_place_rule_with_the_second_towns_grammar(towns, ggg, reports):
     mesh = first.data
     assert len(mesh.vertices) == count + 1
     assert mesh_build.read_attribute(mesh, "symbol", np.int64)[-1] == symbol_b
-    note = mesh_build.read_attribute(mesh, grammar.RULE_GRAMMAR, np.int64)
+    note = mesh_build.read_attribute(mesh, RULE_GRAMMAR, np.int64)
     assert note[:-1].tolist() == [0] * count
-    assert list(first[grammar.RULE_GRAMMARS_KEY])[note[-1] - 1] == text_b.name
+    assert list(first[RULE_GRAMMARS_KEY])[note[-1] - 1] == text_b.name
     np.testing.assert_allclose(mesh.vertices[-1].co[:2], (900.0, 0.0), atol=1e-3)
     # Without the grammar named, the scene's (the first town's) has no such rule.
     with pytest.raises((TypeError, RuntimeError)):
@@ -463,17 +468,17 @@ def test_place_rule_with_the_second_towns_grammar(towns, ggg, reports):
     # The panel: a picker of the grammar texts; the rule menu and the button follow it.
     plain = bpy.data.texts.new("notes.txt")
     plain.from_string("not a grammar")
-    assert grammar.looks_like_grammar(text_a) and grammar.looks_like_grammar(text_b)
-    assert not grammar.looks_like_grammar(plain)
+    assert texts.looks_like_grammar(text_a) and texts.looks_like_grammar(text_b)
+    assert not texts.looks_like_grammar(plain)
     settings.place_grammar = text_b
-    assert [item[0] for item in grammar.rule_items(settings, bpy.context)] == names_b
+    assert [item[0] for item in texts.rule_items(settings, bpy.context)] == names_b
     settings.rule = rule
     labels, buttons = [], []
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
+    grammar_ui.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     place = next(properties for idname, properties in buttons if idname == "roads.place_rule")
     assert place["grammar"] == text_b.name and place["rule"] == rule
     settings.place_grammar = None
-    assert [item[0] for item in grammar.rule_items(settings, bpy.context)][0] == "R1"
+    assert [item[0] for item in texts.rule_items(settings, bpy.context)][0] == "R1"
 
     # Stitching grows the placed rule with the second town's grammar (its note), before the rest.
     activate(first, second)
@@ -483,14 +488,14 @@ def test_place_rule_with_the_second_towns_grammar(towns, ggg, reports):
 
 
 def test_the_panel_box(towns, ggg):
-    from road_grammar import panels
+    from road_grammar.ui import grammar as grammar_ui
 
     first, second, region_obj = towns
     settings = bpy.context.scene.road_grammar
     settings.region, settings.region_seed, settings.region_max_placements = region_obj, 5, 90
     settings.stitch_share = 0.25
     labels, buttons = [], []
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
+    grammar_ui.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Stitch Cities" in labels
     assert "sample_city: sample_city.grammar.json" in labels
     assert "sample_city.001: sample_city.001.grammar.json" in labels
@@ -500,7 +505,7 @@ def test_the_panel_box(towns, ggg):
     assert stitch["share"] == pytest.approx(0.25)
     assert bpy.ops.roads.stitch_cities(**stitch) == {'FINISHED'}
     labels.clear()
-    panels.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
+    grammar_ui.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Select two road graphs (the one to keep active)" in labels
 
 

@@ -5,8 +5,10 @@ import numpy as np
 import pytest
 
 from conftest import edge_attribute, evaluated_mesh_arrays, import_roads, road_objects, write_osm
-from road_grammar import mesh_build, surface
-from road_grammar import preferences as addon_preferences
+from road_grammar.core.polylines import polyline_segments
+from road_grammar.core.widths import road_widths
+from road_grammar.display.nodes import input_sockets
+from road_grammar.data import preferences as addon_preferences
 
 LAT, LON = 46.0, 8.95
 STEP = 0.001  # degrees between the test roads (about 110 m north-south)
@@ -25,7 +27,7 @@ def _parallel_roads(path, tagged):
 
 def test_road_widths_rule():
     classes_default = np.array([10.0, 6.0, 4.0])
-    widths = surface.road_widths(
+    widths = road_widths(
         highway=[0, 1, 2, 1, 2],
         width_tag=[7.5, np.nan, np.nan, 0.0, np.nan],
         lanes=[4, 2, 0, 0, 0],
@@ -89,7 +91,7 @@ def test_width_scale_input_is_non_destructive(tmp_path, ggg):
     assert import_roads(path) == {'FINISHED'}
     _, surface_obj = road_objects()
     modifier = surface_obj.modifiers[0]
-    scale = next(s for s in surface._input_sockets(modifier.node_group) if s.name == "Width Scale")
+    scale = next(s for s in input_sockets(modifier.node_group) if s.name == "Width Scale")
     modifier[scale.identifier] = 2.0
     surface_obj.data.update()
     positions, _, _ = evaluated_mesh_arrays(surface_obj)
@@ -101,7 +103,7 @@ def test_polyline_segments():
     points = np.array([[0, 0], [1, 0], [2, 0], [5, 5], [6, 6]], dtype=float)
     positions = np.array([[0, 0], [2, 0], [9, 9], [5, 5], [6, 6]], dtype=float)
     edges = np.array([[0, 1], [1, 2], [3, 4]])
-    out_points, segments, owner = mesh_build.polyline_segments(offsets, points, positions, edges)
+    out_points, segments, owner = polyline_segments(offsets, points, positions, edges)
     np.testing.assert_array_equal(owner, [0, 0, 1, 2])
     np.testing.assert_allclose(out_points[segments[:, 0]], [[0, 0], [1, 0], [2, 0], [5, 5]])
     np.testing.assert_allclose(out_points[segments[:, 1]], [[1, 0], [2, 0], [9, 9], [6, 6]])

@@ -32,7 +32,10 @@ def main():
 
     sys.path.insert(0, str(REPO / "addon"))
     addon_utils.enable("road_grammar", default_set=True)
-    from road_grammar import city, graph_edit, native
+    from road_grammar.core import native
+    from road_grammar.core.city import road_widths
+    from road_grammar.data import graph_edit
+    from road_grammar.display import city
 
     ggg = native.load()
     rows = []
@@ -44,7 +47,7 @@ def main():
         graph_obj = bpy.context.active_object
         columns = graph_edit.MeshGraph(graph_obj)
         graph = columns.graph(ggg)
-        widths = city.road_widths(columns, ggg, graph)
+        widths = road_widths(columns, ggg, graph)
         start = time.perf_counter()
         layout = ggg.city_layout(graph, half_widths=widths / 2.0)
         native_s = time.perf_counter() - start

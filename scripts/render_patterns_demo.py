@@ -50,7 +50,7 @@ def run(operator, **kwargs):
 def block_seed(obj):
     """The vertices of the first occurrence of the most frequent closed block of four
     streets (else of any size) among the isogroups found."""
-    from road_grammar import analysis
+    from road_grammar.data import analysis
 
     items = obj.road_analysis.isogroups
     cycles = [i for i, item in enumerate(items) if item.order >= 4 and item.edge_count == item.order]

@@ -2,9 +2,21 @@
 graphs with geometric graph grammars, find and replace their repeated patterns, and learn
 grammars from road graphs.
 
-The add-on calls the native library only through its Python module ``ggg`` (see
-native.py for where it is looked for). Registering never needs the module, so the
-add-on enables even when the module is missing or built for another Python; the
+The add-on is laid out as Blender's bundled add-ons are:
+
+* ``core``: what it computes without Blender (no ``bpy``), unit-tested in any Python;
+  ``core.native`` finds the native module ``ggg``, the only way the add-on calls the
+  library;
+* ``data``: road graph objects, grammar texts and the results kept in the .blend;
+* ``display``: the node groups, modifiers and materials that draw them;
+* ``properties``: preferences and the property groups of scenes and objects;
+* ``operators``: the ``roads.*`` operators;
+* ``ui``: the sidebar panels and the menu entry.
+
+Registration follows the ``classes`` of the modules of ``properties``, ``operators`` and
+``ui``, in that order (the property groups first); then the pointer properties of
+``properties`` and the menu entries of ``ui``. Registering never needs the native module,
+so the add-on enables even when the module is missing or built for another Python; the
 import operator and the sidebar panel then say what to do.
 """
 
@@ -22,106 +34,57 @@ bl_info = {
 
 if "bpy" in locals():
     import importlib
+    import sys
 
-    for _module in (native, georef, mesh_build, surface, frames, importer, preferences, region,  # noqa: F821
-                    grammar, graph_edit, operators, grammar_ops, stitch_ops, city, flythrough, city_ops,  # noqa: F821
-                    panels):  # noqa: F821
-        importlib.reload(_module)
-    del _module
-else:
-    from . import (native, georef, mesh_build, surface, frames, importer, preferences, region, grammar,
-                   graph_edit, operators, grammar_ops, stitch_ops, city, flythrough, city_ops, panels)
-
-# The graph analyzer (isogroups, find similar) and the replacement of its patterns (paper
-# Fig. 1): their own modules, after the ones above.
-if "analysis" in locals():
-    import importlib
-
-    for _module in (jobs, pattern_display, analysis, analysis_ops, replacement, replacement_ops,  # noqa: F821
-                    analysis_panels):  # noqa: F821
-        importlib.reload(_module)
-    del _module
-else:
-    from . import jobs, pattern_display, analysis, analysis_ops, replacement, replacement_ops, analysis_panels
-
-# Grammar learning (inverse procedural modelling): after the analyzer, whose parts it uses.
-if "learning" in locals():
-    import importlib
-
-    for _module in (rule_display, learning, learning_ops, learning_panels):  # noqa: F821
-        importlib.reload(_module)
-    del _module
-else:
-    from . import rule_display, learning, learning_ops, learning_panels
+    # Reload Scripts: every module of the add-on again, layer by layer (core first, ui last).
+    _LAYERS = ("core", "data", "display", "properties", "operators", "ui")
+    for _name in sorted((name for name in sys.modules if name.startswith(__name__ + ".")),
+                        key=lambda name: (_LAYERS.index(name.split(".")[1]) if name.split(".")[1] in _LAYERS
+                                          else len(_LAYERS), name)):
+        importlib.reload(sys.modules[_name])
+    del _name, _LAYERS
 
 import bpy
+from bpy.props import PointerProperty
 
-classes = (
-    preferences.ROADS_PG_class_width,
-    preferences.ROADS_AP_preferences,
-    preferences.ROADS_OT_reset_widths,
-    grammar.ROADS_PG_grammar,
-    operators.ROADS_OT_import_osm,
-    grammar_ops.ROADS_OT_load_grammar,
-    grammar_ops.ROADS_OT_save_grammar,
-    grammar_ops.ROADS_OT_add_axiom,
-    grammar_ops.ROADS_OT_place_rule,
-    grammar_ops.ROADS_OT_grow,
-    grammar_ops.ROADS_OT_grow_region,
-    stitch_ops.ROADS_OT_stitch_cities,
-    panels.VIEW3D_PT_roads,
-    panels.VIEW3D_PT_roads_grammar,
-    city_ops.ROADS_PG_city,
-    city_ops.ROADS_OT_build_city,
-    city_ops.ROADS_OT_flythrough,
-    city_ops.ROADS_OT_render_city,
-    panels.VIEW3D_PT_roads_city,
-    analysis.ROADS_PG_isogroup,
-    analysis.ROADS_PG_analysis,
-    analysis.ROADS_PG_analysis_settings,
-    analysis_ops.ROADS_OT_find_similar,
-    analysis_ops.ROADS_OT_analyze,
-    analysis_ops.ROADS_OT_select_isogroup,
-    analysis_ops.ROADS_OT_show_patterns,
-    analysis_ops.ROADS_OT_clear_patterns,
-    replacement.ROADS_PG_replacement,
-    replacement_ops.ROADS_OT_store_replacement,
-    replacement_ops.ROADS_OT_replace_isogroup,
-    analysis_panels.ROADS_UL_isogroups,
-    analysis_panels.VIEW3D_PT_roads_patterns,
-    analysis_panels.VIEW3D_PT_roads_isogroups,
-    analysis_panels.VIEW3D_PT_roads_replace,
-    learning.ROADS_PG_learned_rule,
-    learning.ROADS_PG_learning,
-    learning.ROADS_PG_learning_settings,
-    learning_ops.ROADS_OT_learn,
-    learning_ops.ROADS_OT_show_level,
-    learning_panels.ROADS_UL_learned_rules,
-    learning_panels.VIEW3D_PT_roads_learn,
-    learning_panels.VIEW3D_PT_roads_learned_rules,
-)
+from . import operators, properties, ui
+from .data import analysis, learning, texts
+from .operators import jobs
+
+PACKAGES = (properties, operators, ui)
+
+
+def _classes():
+    return [cls for package in PACKAGES for module in package.modules for cls in module.classes]
+
+
+def _pointers():
+    return [pointer for module in properties.modules for pointer in getattr(module, "pointers", ())]
+
+
+def _menus():
+    return [menu for module in ui.modules for menu in getattr(module, "menus", ())]
 
 
 def register():
-    for cls in classes:
+    for cls in _classes():
         bpy.utils.register_class(cls)
-    grammar.register()
-    city_ops.register()
-    analysis.register()
-    replacement.register()
-    learning.register()
-    bpy.types.TOPBAR_MT_file_import.append(operators.menu_import)
+    for owner, name, group in _pointers():
+        setattr(owner, name, PointerProperty(type=group))
+    for menu, draw in _menus():
+        menu.append(draw)
 
 
 def unregister():
-    bpy.types.TOPBAR_MT_file_import.remove(operators.menu_import)
-    city_ops.unregister()
-    learning_ops.stop_all()
-    learning.unregister()
-    analysis_ops.stop_all()
-    analysis.forget()
-    replacement.unregister()
-    analysis.unregister()
-    grammar.unregister()
-    for cls in reversed(classes):
+    for menu, draw in reversed(_menus()):
+        menu.remove(draw)
+    # The jobs running in the UI first: none may finish into unregistered properties.
+    jobs.stop_all()
+    for owner, name, _group in reversed(_pointers()):
+        delattr(owner, name)
+    for cls in reversed(_classes()):
         bpy.utils.unregister_class(cls)
+    # What is kept in memory besides the .blend.
+    analysis.forget()
+    learning.forget()
+    texts.forget()

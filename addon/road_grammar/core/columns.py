@@ -1,0 +1,209 @@
+"""A road graph as the columns of ``ggg.Graph.from_arrays``, and the surgery on them:
+the part of a graph on some of its vertices, a graph with what growth added appended, and
+two graphs joined side by side (Stitch Cities).
+
+``GraphColumns`` holds what a road graph object's mesh (and its surface's polylines) says
+about the graph; ``data.graph_edit.MeshGraph`` reads it from the object. Besides the graph's
+own columns it carries what only Blender holds (other attributes, selection and hiding),
+so that it can follow the vertices and edges it belongs to.
+"""
+
+import numpy as np
+
+from .names import FRAME_A, FRAME_B, NAME, SYMBOL
+from .polylines import complete_polylines, selected_polylines
+
+# Point attributes that the graph carries itself (not copied from the old mesh).
+GRAPH_POINT_ATTRIBUTES = (SYMBOL, FRAME_A, FRAME_B)
+# Edge attributes that the graph carries itself.
+GRAPH_EDGE_ATTRIBUTES = ("highway", "rank", "width", "lanes", "oneway", NAME)
+# Edge columns whose values the library takes only in a range: (dtype, accepted(values),
+# untagged). A value set by hand outside it goes in untagged and comes back on its edge.
+RANGED_COLUMNS = {
+    "width": (np.float64, lambda w: np.isfinite(w) & (w > 0.0), np.nan),
+    "lanes": (np.int64, lambda n: (n >= 0) & (n <= 50), 0),
+    "oneway": (np.int64, lambda d: (d >= -1) & (d <= 1), 0),
+}
+# Untagged values of the ranged columns, for a graph that lacks one of them.
+UNTAGGED = {name: (dtype, untagged) for name, (dtype, _accepted, untagged) in RANGED_COLUMNS.items()}
+
+
+class GraphColumns:
+    """The columns of a road graph, as ggg.Graph.from_arrays wants them: ``positions`` (N, 2),
+    ``edges`` (M, 2), ``symbols`` (N,), ``frames`` (N, 4: a, b, x, y) with ``frame_missing``
+    (a vertex without a frame of its own), ``highway`` (M,) or None, the ranged ``columns``
+    {"width", "lanes", "oneway"} with the values the library ``refused`` ({name: (mask,
+    the original values)}), ``names`` (M str) or None, ``geometry`` (offsets, points) or
+    None, and what only Blender holds: ``edge_attributes`` and ``point_attributes``
+    {name: (kind, values)}, ``vertex_flags`` and ``edge_flags`` {"select", "hide"}."""
+
+    @property
+    def nonterminal_count(self):
+        return int(np.count_nonzero(self.symbols))
+
+    def graph(self, ggg):
+        """The ggg.Graph of these columns (raises ggg.Error for a graph it refuses)."""
+        highway = None
+        if self.highway is not None:
+            highway = np.clip(self.highway, 0, len(ggg.highway_classes()) - 1)
+        return ggg.Graph.from_arrays(
+            self.positions, self.edges, origin_latlon=self.origin_latlon,
+            vertex_symbols=self.symbols, vertex_frames=self.frames,
+            edge_highway=highway, edge_width=self.columns.get("width"), edge_lanes=self.columns.get("lanes"),
+            edge_oneway=self.columns.get("oneway"), edge_names=self.names, edge_geometry=self.geometry)
+
+
+def assembled(ggg, graph, vertex_ids, edge_ids, edges, more=None):
+    """A ggg.Graph of the vertices ``vertex_ids`` and edges ``edge_ids`` of ``graph`` with
+    all their columns (``edges``: those edges renumbered), followed by ``more`` =
+    (grown, first vertex, first edge, edges): the vertices and edges of the ggg.Graph
+    ``grown`` from those ids on (``edges``: renumbered)."""
+    parts = [(graph, np.asarray(vertex_ids, dtype=np.int64), np.asarray(edge_ids, dtype=np.int64), edges)]
+    if more is not None:
+        grown, first_vertex, first_edge, grown_edges = more
+        parts.append((grown, np.arange(first_vertex, grown.vertex_count, dtype=np.int64),
+                      np.arange(first_edge, grown.edge_count, dtype=np.int64), grown_edges))
+    columns = {name: [] for name in ("positions", "symbols", "frames", "edges", "highway", "width", "lanes", "oneway",
+                                     "names", "offsets", "points")}
+    point_count = 0
+    for part, vertices, part_edges, renumbered in parts:
+        columns["positions"].append(np.asarray(part.positions, dtype=np.float64).reshape(-1, 2)[vertices])
+        columns["symbols"].append(np.asarray(part.vertex_symbols, dtype=np.int64)[vertices])
+        columns["frames"].append(np.asarray(part.vertex_frames, dtype=np.float64).reshape(-1, 4)[vertices])
+        columns["edges"].append(np.asarray(renumbered, dtype=np.int64).reshape(-1, 2))
+        columns["highway"].append(np.asarray(part.edge_highway, dtype=np.int64)[part_edges])
+        columns["width"].append(np.asarray(part.edge_width, dtype=np.float64)[part_edges])
+        columns["lanes"].append(np.asarray(part.edge_lanes, dtype=np.int64)[part_edges])
+        columns["oneway"].append(np.asarray(part.edge_oneway, dtype=np.int64)[part_edges])
+        names = part.edge_names
+        columns["names"].extend(names[i] for i in part_edges.tolist())
+        offsets, points = selected_polylines(*part.edge_geometry(), part_edges)
+        columns["offsets"].append(offsets[1:] + point_count if columns["offsets"] else offsets + point_count)
+        columns["points"].append(points)
+        point_count += len(points)
+    joined = {name: np.concatenate(values) for name, values in columns.items() if name != "names"}
+    return ggg.Graph.from_arrays(
+        joined["positions"], joined["edges"], origin_latlon=tuple(graph.origin_latlon),
+        vertex_symbols=joined["symbols"], vertex_frames=joined["frames"], edge_highway=joined["highway"],
+        edge_width=joined["width"], edge_lanes=joined["lanes"], edge_oneway=joined["oneway"],
+        edge_names=columns["names"], edge_geometry=(joined["offsets"], joined["points"]))
+
+
+def induced_subgraph(ggg, graph, keep):
+    """The part of the ggg.Graph ``graph`` on the vertices where ``keep`` is True and the
+    edges between them, with all their columns, in ``graph``'s order: (subgraph, its
+    vertices' ids in ``graph``, its edges' ids in ``graph``)."""
+    keep = np.asarray(keep, dtype=bool)
+    vertex_ids = np.flatnonzero(keep)
+    edges = np.asarray(graph.edges, dtype=np.int64).reshape(-1, 2)
+    edge_ids = np.flatnonzero(keep[edges[:, 0]] & keep[edges[:, 1]]) if len(edges) else np.zeros(0, np.int64)
+    index = np.full(len(keep), -1, dtype=np.int64)
+    index[vertex_ids] = np.arange(len(vertex_ids))
+    return assembled(ggg, graph, vertex_ids, edge_ids, index[edges[edge_ids]]), vertex_ids, edge_ids
+
+
+def appended(ggg, graph, keep, grown, base_ids, base_edge_count):
+    """``graph`` cut down to the vertices where ``keep`` is True (and the edges between
+    them), followed by what ggg.grow_region added in ``grown``: the result of growing the
+    subgraph of ``graph`` on the vertices ``base_ids`` (all kept), whose first
+    ``base_edge_count`` edges were that subgraph's own.
+
+    Returns (graph, source_vertex): for each vertex of the result, its id in ``graph``, -1
+    for a grown one (what Replacement wants as the report's ``source_vertex``)."""
+    keep = np.asarray(keep, dtype=bool)
+    base_ids = np.asarray(base_ids, dtype=np.int64)
+    kept_ids = np.flatnonzero(keep)
+    index = np.full(len(keep), -1, dtype=np.int64)
+    index[kept_ids] = np.arange(len(kept_ids))
+    edges = np.asarray(graph.edges, dtype=np.int64).reshape(-1, 2)
+    edge_ids = np.flatnonzero(keep[edges[:, 0]] & keep[edges[:, 1]]) if len(edges) else np.zeros(0, np.int64)
+    grown_count = grown.vertex_count - len(base_ids)
+    # A vertex of ``grown``: one of the base (``base_ids``), else a new one after the kept.
+    grown_index = np.concatenate((index[base_ids], len(kept_ids) + np.arange(grown_count, dtype=np.int64)))
+    grown_edges = np.asarray(grown.edges, dtype=np.int64).reshape(-1, 2)[base_edge_count:]
+    result = assembled(ggg, graph, kept_ids, edge_ids, index[edges[edge_ids]],
+                       (grown, len(base_ids), base_edge_count, grown_index[grown_edges]))
+    source = np.concatenate((kept_ids, np.full(grown_count, -1, dtype=np.int64)))
+    return result, source
+
+
+def stacked(first, second, n_first, n_second, dtype, fill):
+    """``first`` and ``second`` one after the other; a missing one (None) as ``fill``."""
+    if first is None and second is None:
+        return None
+    parts = [np.full(n, fill, dtype=dtype) if values is None else np.asarray(values, dtype=dtype)
+             for values, n in ((first, n_first), (second, n_second))]
+    return np.concatenate(parts)
+
+
+def stacked_attributes(first, second, n_first, n_second):
+    """{name: (kind, values)} of two meshes' user attributes one after the other; an
+    attribute of one only is zero on the other's elements, and one whose type differs
+    between them takes the first's type."""
+    joined = {}
+    for name in list(first) + [name for name in second if name not in first]:
+        kind, values = first.get(name, second.get(name))
+        dtype = np.asarray(values).dtype
+        a = first[name][1] if name in first else None
+        b = second[name][1] if name in second else None
+        joined[name] = (kind, stacked(a, b, n_first, n_second, dtype, 0))
+    return joined
+
+
+def joined(ggg, first, second, matrix):
+    """GraphColumns of ``first``'s vertices and edges followed by ``second``'s (both
+    GraphColumns), ``second``'s brought into ``first``'s frame by the 4x4 ``matrix`` (seen from
+    above: its x, y rows; the frames of its nonterminals turned and scaled by its linear
+    part). Every column and attribute follows its vertex or edge; one that only one of them
+    has is untagged (or zero) on the other's."""
+    matrix = np.asarray(matrix, dtype=np.float64)
+    linear, shift = matrix[:2, :2], matrix[:2, 3]
+    n1, n2 = len(first.positions), len(second.positions)
+    e1, e2 = len(first.edges), len(second.edges)
+    out = GraphColumns()
+    moved = second.positions @ linear.T + shift
+    out.positions = np.concatenate((first.positions, moved))
+    out.edges = np.concatenate((first.edges, second.edges + n1)).reshape(-1, 2)
+    out.symbols = np.concatenate((first.symbols, second.symbols))
+    out.frame_missing = np.concatenate((first.frame_missing, second.frame_missing))
+    ab = second.frames[:, :2] @ linear.T
+    out.frames = np.column_stack((np.concatenate((first.frames[:, :2], ab)), out.positions))
+    road = ggg.highway_classes().index("road") if "road" in ggg.highway_classes() else 0
+    out.highway = stacked(first.highway, second.highway, e1, e2, np.int64, road)
+    out.columns, out.refused = {}, {}
+    for name, (dtype, untagged) in UNTAGGED.items():
+        values = stacked(first.columns.get(name), second.columns.get(name), e1, e2, dtype, untagged)
+        if values is not None:
+            out.columns[name] = values
+        if name in first.refused or name in second.refused:
+            masks, originals = [], []
+            for part, count in ((first, e1), (second, e2)):
+                refused, original = part.refused.get(name, (np.zeros(count, dtype=bool), None))
+                masks.append(refused)
+                originals.append(np.full(count, untagged, dtype=dtype) if original is None else original)
+            out.refused[name] = (np.concatenate(masks), np.concatenate(originals).astype(dtype))
+    if first.names is None and second.names is None:
+        out.names = None
+    else:
+        out.names = list(first.names or [""] * e1) + list(second.names or [""] * e2)
+    offsets, points = [], []
+    for part, shape in ((first, None), (second, (linear, shift))):
+        geometry = part.geometry
+        if geometry is None:
+            geometry = complete_polylines(np.zeros(len(part.edges) + 1, dtype=np.int64), np.zeros((0, 2)),
+                                          part.positions, part.edges)
+        part_offsets, part_points = (np.asarray(geometry[0], dtype=np.int64),
+                                     np.asarray(geometry[1], dtype=np.float64).reshape(-1, 2))
+        if shape is not None:
+            part_points = part_points @ shape[0].T + shape[1]
+        offsets.append(part_offsets if not offsets else part_offsets[1:] + len(points[0]))
+        points.append(part_points)
+    out.geometry = (np.concatenate(offsets), np.concatenate(points))
+    out.edge_attributes = stacked_attributes(first.edge_attributes, second.edge_attributes, e1, e2)
+    out.point_attributes = stacked_attributes(first.point_attributes, second.point_attributes, n1, n2)
+    out.vertex_flags = {name: stacked(first.vertex_flags.get(name), second.vertex_flags.get(name), n1, n2, bool,
+                                      False) for name in first.vertex_flags}
+    out.edge_flags = {name: stacked(first.edge_flags.get(name), second.edge_flags.get(name), e1, e2, bool, False)
+                      for name in first.edge_flags}
+    out.origin_latlon = first.origin_latlon
+    return out

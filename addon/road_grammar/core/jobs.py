@@ -1,0 +1,104 @@
+"""Long native calls (Analyze, Learn) in a worker thread.
+
+The native functions release the GIL; the thread touches no Blender data: its progress
+callback (``NativeJob.__call__``) only records the fraction and message and returns False
+once the user cancelled. ``operators.jobs.ModalJobOperator`` runs one from the UI.
+"""
+
+import threading
+import time
+
+
+class NativeJob:
+    """One run of a native call in a worker thread (subclasses say which, in ``_call``).
+
+    The thread never touches Blender data. ``__call__`` is the progress callback (called by
+    the native library, from any of its threads): it records the fraction and the message
+    and tells the library whether to go on."""
+
+    thread_name = "road_grammar job"
+
+    def __init__(self, ggg, graph, options):
+        self._ggg = ggg
+        self._graph = graph
+        self._options = options
+        self._cancel = threading.Event()
+        self._done = threading.Event()
+        self._thread = None
+        self.fraction = 0.0
+        self.message = "starting"
+        self.calls = 0
+        self.result = None
+        self.error = None
+        self.seconds = 0.0
+
+    def _call(self, ggg, graph, options):
+        """The native call (worker thread); its result becomes ``result``."""
+        raise NotImplementedError
+
+    def keep_going(self):
+        return not self._cancel.is_set()
+
+    def __call__(self, fraction, message):
+        self.calls += 1
+        self.fraction = min(max(float(fraction), 0.0), 1.0)
+        self.message = str(message)
+        return self.keep_going()
+
+    def _run(self):
+        started = time.perf_counter()
+        try:
+            self.result = self._call(self._ggg, self._graph, self._options)
+        except BaseException as ex:  # handed to the main thread, which reports it
+            self.error = ex
+        finally:
+            self.seconds = time.perf_counter() - started
+            self._graph = None
+            self._done.set()
+
+    def start(self):
+        self._thread = threading.Thread(target=self._run, name=self.thread_name, daemon=True)
+        self._thread.start()
+
+    def cancel(self):
+        self._cancel.set()
+
+    @property
+    def cancelled(self):
+        return self._cancel.is_set()
+
+    def done(self):
+        return self._done.is_set()
+
+    def wait(self, timeout=None):
+        return self._done.wait(timeout)
+
+    def join(self):
+        if self._thread is not None:
+            self._thread.join()
+
+
+def stop_all(running):
+    """Cancel the jobs of ``running`` (object name -> NativeJob) and wait for their threads
+    (the add-on is being disabled)."""
+    for job in list(running.values()):
+        job.cancel()
+        job.join()
+
+
+class AnalysisJob(NativeJob):
+    """One run of ggg.analyze in a worker thread."""
+
+    thread_name = "road_grammar analyze"
+
+    def _call(self, ggg, graph, options):
+        return ggg.analyze(graph, progress=self, **options)
+
+
+class LearningJob(NativeJob):
+    """One run of ggg.learn in a worker thread."""
+
+    thread_name = "road_grammar learn"
+
+    def _call(self, ggg, graph, options):
+        return ggg.learn(graph, progress=self, **options)

@@ -1,0 +1,4 @@
+"""What the add-on draws: the Geometry Nodes groups, modifiers, materials and child objects
+that show road surfaces (surface), nonterminal frames (frames), pattern colours
+(patterns), a learned grammar's levels (rules) and the 3-D city (city); nodes holds the
+helpers they share."""

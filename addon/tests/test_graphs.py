@@ -1,0 +1,116 @@
+"""core.columns and core.growth with the native module: cutting a graph down, appending what
+growth added, joining two graphs, and the rules placed by hand."""
+
+import numpy as np
+import pytest
+
+from road_grammar.core.columns import GraphColumns, appended, induced_subgraph, joined
+from road_grammar.core.growth import ThrottledProgress, placed_rules, placements_that_fit
+
+
+def columns(positions, edges, symbols=None, frames=None, highway=None):
+    out = GraphColumns()
+    out.positions = np.asarray(positions, dtype=np.float64)
+    out.edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    n, m = len(out.positions), len(out.edges)
+    out.symbols = np.zeros(n, dtype=np.int64) if symbols is None else np.asarray(symbols, dtype=np.int64)
+    ab = np.tile([1.0, 0.0], (n, 1)) if frames is None else np.asarray(frames, dtype=np.float64)
+    out.frames = np.column_stack((ab, out.positions))
+    out.frame_missing = np.zeros(n, dtype=bool)
+    out.highway = None if highway is None else np.asarray(highway, dtype=np.int64)
+    out.columns = {"width": np.full(m, np.nan), "lanes": np.zeros(m, dtype=np.int64)}
+    out.refused = {}
+    out.names = ["street {}".format(e) for e in range(m)]
+    out.geometry = None
+    out.edge_attributes = {"mark": ('INT', np.arange(m))}
+    out.point_attributes = {}
+    out.vertex_flags = {"select": np.zeros(n, dtype=bool), "hide": np.zeros(n, dtype=bool)}
+    out.edge_flags = {"select": np.ones(m, dtype=bool), "hide": np.zeros(m, dtype=bool)}
+    out.origin_latlon = (0.0, 0.0)
+    return out
+
+
+SQUARE = [[0, 0], [100, 0], [100, 100], [0, 100]]
+RING = [[0, 1], [1, 2], [2, 3], [3, 0]]
+
+
+def test_graph_columns(ggg):
+    square = columns(SQUARE + [[50, 50]], RING, symbols=[0, 0, 0, 0, 1])
+    assert square.nonterminal_count == 1
+    graph = square.graph(ggg)
+    assert graph.vertex_count == 5 and graph.edge_count == 4
+    assert list(graph.edge_names) == square.names
+
+
+def test_induced_subgraph_and_appended(ggg):
+    graph = columns(SQUARE + [[50, 50]], RING + [[0, 4]]).graph(ggg)
+    keep = np.array([True, True, True, True, False])
+    sub, vertex_ids, edge_ids = induced_subgraph(ggg, graph, keep)
+    assert sub.vertex_count == 4 and vertex_ids.tolist() == [0, 1, 2, 3] and edge_ids.tolist() == [0, 1, 2, 3]
+    assert list(sub.edge_names) == ["street 0", "street 1", "street 2", "street 3"]
+    # "Growth": one more vertex joined to vertex 2.
+    grown = ggg.Graph.from_arrays(np.vstack((np.asarray(sub.positions), [[150, 150]])),
+                                  np.vstack((np.asarray(sub.edges), [[2, 4]])))
+    result, source = appended(ggg, graph, keep, grown, vertex_ids, len(edge_ids))
+    assert result.vertex_count == 5 and result.edge_count == 5
+    assert source.tolist() == [0, 1, 2, 3, -1]
+    assert np.asarray(result.edges)[-1].tolist() == [2, 4]
+
+
+def test_joined(ggg):
+    first = columns(SQUARE, RING)
+    second = columns(SQUARE, RING, symbols=[0, 2, 0, 0], frames=[[1, 0], [0, 2], [1, 0], [1, 0]])
+    second.names = None
+    second.edge_attributes = {}
+    move = np.eye(4)
+    move[:2, :2] = [[0, -1], [1, 0]]  # a quarter turn
+    move[:2, 3] = [1000, 0]
+    both = joined(ggg, first, second, move)
+    assert len(both.positions) == 8 and both.edges[4:].tolist() == [[4, 5], [5, 6], [6, 7], [7, 4]]
+    assert both.positions[5].tolist() == [1000, 100]
+    assert both.frames[5, :2].tolist() == [-2, 0]  # turned with the graph
+    assert both.names == first.names + [""] * 4
+    assert both.edge_attributes["mark"][1].tolist() == [0, 1, 2, 3, 0, 0, 0, 0]
+    assert both.geometry[0].tolist() == [0, 2, 4, 6, 8, 10, 12, 14, 16]
+    assert both.graph(ggg).vertex_count == 8
+
+
+class Parsed:
+    rules = [{"symbol": 1}, {"symbol": 3}]
+
+
+def test_placed_rules():
+    graph = columns(SQUARE + [[50, 50], [20, 20], [70, 70]], RING, symbols=[0, 0, 0, 0, 1, 2, 3],
+                    frames=[[1, 0]] * 4 + [[0, 40], [1, 0], [3, 4]])
+    graph.frame_missing[6] = True
+    vertices, placements = placed_rules(graph, Parsed)
+    assert vertices == [4, 6]  # symbol 2 has no rule
+    assert placements[0] == pytest.approx((1, 50.0, 50.0, 40.0, 90.0))
+    assert placements[1][3] == 0.0  # no frame of its own: the rule's learned size
+    assert placed_rules(graph, Parsed, [False] * 6 + [True])[0] == [6]
+
+
+def test_placements_that_fit():
+    class Growth:
+        """A grow_region where the placements at odd places never fit."""
+
+        calls = []
+
+        def grow_region(self, base, parsed, polygon, patience, placements):
+            self.calls.append(len(placements))
+            fitted = sum(1 for index, _p in enumerate(placements) if index % 2 == 0)
+            return None, {"attempts": len(placements), "placements": fitted}
+
+    growth = Growth()
+    assert placements_that_fit(growth, None, None, None, []) == []
+    assert placements_that_fit(growth, None, None, None, ["a", "b", "c"]) == [True, False, True]
+    assert placements_that_fit(growth, None, None, None, ["a"]) == [True]
+
+
+def test_throttled_progress():
+    seen = []
+    progress = ThrottledProgress(lambda fraction, message: seen.append((fraction, message)))
+    for fraction in (0.0, 0.001, 0.004, 0.011, 0.011):
+        assert progress(fraction, "growing") is True
+    progress(0.011, "done")
+    assert seen == [(0.0, "growing"), (0.011, "growing"), (0.011, "done")]
