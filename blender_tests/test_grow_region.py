@@ -315,7 +315,7 @@ def test_placed_rule_without_a_frame_and_one_without_a_rule(town, ggg):
     mesh.attributes["frame_b"].data[count - 2].value = 0.0
     mesh.attributes["symbol"].data[count - 1].value = 99  # no such rule
     streets, _ids, _edges = induced_subgraph(ggg, graph_edit.MeshGraph(town).graph(ggg),
-                                                        np.arange(count) < count - 2)
+                                             np.arange(count) < count - 2)
     grown, report = ggg.grow_region(streets, parsed, RECTANGLE, seed=1,
                                     placements=[(rule["symbol"], 1100.0, 0.0, 0.0, 0.0)])
     region_obj = mesh_region()

@@ -124,7 +124,7 @@ def expected(ggg, first, second, seed=1, share=0.5, **options):
     one after the other (the second moved by the offset), grown into the gap with the first
     town's grammar (its share of what it would place alone) and then the second's."""
     old = joined(ggg, graph_edit.MeshGraph(first), graph_edit.MeshGraph(second),
-                            np.array(first.matrix_world.inverted() @ second.matrix_world))
+                 np.array(first.matrix_world.inverted() @ second.matrix_world))
     base = old.graph(ggg)
     _ta, parsed_a = texts.of_text(first.road_learning.text)
     _tb, parsed_b = texts.of_text(second.road_learning.text)

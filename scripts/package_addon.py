@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Build the installable add-on zip: addon/road_grammar/ plus the compiled module ggg
-under road_grammar/native/, ready for Edit > Preferences > Add-ons > Install.
+"""Build the installable add-on zip: addon/road_grammar/ with all its subpackages (core,
+data, display, properties, operators, ui) plus the compiled module ggg under
+road_grammar/native/, ready for Edit > Preferences > Add-ons > Install.
 
 usage: python3 scripts/package_addon.py [--module-dir build/python] [--out dist/road_grammar.zip]
 
@@ -64,7 +65,7 @@ def main(argv=None):
               file=sys.stderr)
         return 1
     entries = list(addon_files()) + modules
-    if not any(name.name == "__init__.py" for _, name in entries):
+    if Path("road_grammar") / "__init__.py" not in {name for _, name in entries}:
         print("error: {} holds no add-on".format(ADDON), file=sys.stderr)
         return 1
     write_zip(args.out, entries)
