@@ -1,4 +1,5 @@
-"""A road graph (ggg.Graph) -> Blender objects.
+"""Road graph objects: a road graph (ggg.Graph) -> Blender objects, the road graph of an
+object, the ones selected, and removing one with what belongs to it.
 
 Two objects per graph, linked to the active collection:
 
@@ -6,8 +7,8 @@ Two objects per graph, linked to the active collection:
   edge per graph edge, same order as the ggg.Graph arrays) with the edge attributes
   `highway` (class code), `width` (metres), `rank`, `lanes`, `oneway` and, when some
   road has one, `name` (text); and, when the graph has nonterminal vertices (grammars,
-  see operators/grammar.py), the point attributes `symbol` and `frame_a` / `frame_b` with the
-  "Rule Frames" modifier that draws them;
+  see operators/grammar.py), the point attributes `symbol` and `frame_a` / `frame_b` with
+  the "Rule Frames" modifier that draws them;
 * "<name> Surface" (child of the first): the edge polylines, with `width`, `highway`,
   `rank` and `graph_edge` (the graph edge it belongs to) per segment, and the "Road
   Surface" Geometry Nodes modifier that makes them flat ribbons.
