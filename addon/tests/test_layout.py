@@ -101,8 +101,6 @@ def test_no_import_cycles():
     """The modules of the add-on import each other without a cycle (counting imports
     inside functions too, so none is hidden in a local import)."""
     graph = {name: internal_dependencies(name) for name in MODULES}
-    # A package's __init__ is not a dependency of its modules (Python runs it first, but it
-    # imports nothing from them in this add-on except the top-level one, which is last).
     state = {}
     path = []
 
