@@ -127,7 +127,7 @@ GeometricGraph import_osm(const std::string& path, const ImportOptions& options,
             // descriptor open when the data is corrupt (fuzzing), which a long-lived Blender
             // session would pile up.
             text = read_text_file(path);
-            osm_detail::check_pbf_framing(text, path);
+            osm_detail::check_pbf(text, path);
             file = osmium::io::File(text.data(), text.size(), "pbf");
         }
         const auto file_size = static_cast<double>(!text.empty() ? text.size() : std::max<std::uintmax_t>(1, std::filesystem::file_size(path, ec)));

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <cstdint>
+#include <algorithm>
 #include <fstream>
 #include <memory>
 #include <utility>
@@ -18,6 +19,7 @@
 #include <osmium/io/file.hpp>
 #include <protozero/exception.hpp>
 #include <protozero/pbf_reader.hpp>
+#include <zlib.h>
 
 #include "ggg/error.hpp"
 #include "ggg/io/files.hpp"
@@ -196,20 +198,201 @@ std::string read_osm_text(const std::string& path) {
     return text;
 }
 
-void check_pbf_framing(std::string_view data, const std::string& name) {
+namespace {
+
+// protozero's own view type, as a standard one and back.
+std::string_view view(protozero::data_view d) { return {d.data(), d.size()}; }
+protozero::pbf_reader reader(std::string_view v) { return {v.data(), v.size()}; }
+
+// The most a PBF blob may hold once decompressed (the format's own limit is 32 MiB).
+constexpr std::size_t max_pbf_blob_bytes = std::size_t{32} << 20;
+
+[[noreturn]] void pbf_error(const std::string& name, const std::string& what) {
+    throw InputError(name + ": not a readable OSM file (PBF error: " + what + ")");
+}
+
+// The decompressed bytes of one Blob, or false when the blob is of a kind libosmium reports
+// itself (an unknown compression, a size that does not match).
+bool blob_bytes(std::string_view blob, std::string& out) {
+    std::string_view raw, zlib_data;
+    std::int64_t raw_size = -1;
+    protozero::pbf_reader message = reader(blob);
+    while (message.next()) {
+        if (message.tag() == 1 && message.wire_type() == protozero::pbf_wire_type::length_delimited) raw = view(message.get_view());
+        else if (message.tag() == 2 && message.wire_type() == protozero::pbf_wire_type::varint) raw_size = message.get_int32();
+        else if (message.tag() == 3 && message.wire_type() == protozero::pbf_wire_type::length_delimited) zlib_data = view(message.get_view());
+        else message.skip();
+    }
+    if (raw.data() != nullptr) {
+        out.assign(raw.data(), raw.size());
+        return true;
+    }
+    if (zlib_data.data() == nullptr || raw_size <= 0 || static_cast<std::size_t>(raw_size) > max_pbf_blob_bytes) return false;
+    out.resize(static_cast<std::size_t>(raw_size));
+    uLongf length = static_cast<uLongf>(raw_size);
+    if (::uncompress(reinterpret_cast<Bytef*>(out.data()), &length, reinterpret_cast<const Bytef*>(zlib_data.data()),
+                     static_cast<uLong>(zlib_data.size())) != Z_OK ||
+        length != static_cast<uLongf>(raw_size)) {
+        return false;
+    }
+    return true;
+}
+
+// Coordinates of one PrimitiveBlock: libosmium computes value * granularity + offset, and adds
+// up the deltas of ids and coordinates, in 64 bits without checking (undefined behaviour, then
+// a wrong location). Each step is checked here, and every coordinate must land within the
+// world, so that what reaches libosmium is arithmetic it can do.
+class BlockChecker {
+public:
+    BlockChecker(const std::string& name, std::string_view block) : name_(name) {
+        protozero::pbf_reader message = reader(block);
+        while (message.next()) {
+            if (message.tag() == 17 && message.wire_type() == protozero::pbf_wire_type::varint) granularity_ = message.get_int32();
+            else if (message.tag() == 19 && message.wire_type() == protozero::pbf_wire_type::varint) lat_offset_ = message.get_int64();
+            else if (message.tag() == 20 && message.wire_type() == protozero::pbf_wire_type::varint) lon_offset_ = message.get_int64();
+            else message.skip();
+        }
+        protozero::pbf_reader groups = reader(block);
+        while (groups.next(2, protozero::pbf_wire_type::length_delimited)) {
+            protozero::pbf_reader group = groups.get_message();
+            while (group.next()) {
+                if (group.tag() == 1 && group.wire_type() == protozero::pbf_wire_type::length_delimited) node(view(group.get_view()));
+                else if (group.tag() == 2 && group.wire_type() == protozero::pbf_wire_type::length_delimited) dense(view(group.get_view()));
+                else if (group.tag() == 3 && group.wire_type() == protozero::pbf_wire_type::length_delimited) way(view(group.get_view()));
+                else group.skip();
+            }
+        }
+    }
+
+private:
+    std::int64_t add(std::int64_t a, std::int64_t b, const std::string& what) const {
+        std::int64_t sum = 0;
+        if (__builtin_add_overflow(a, b, &sum)) pbf_error(name_, what + ": a delta runs past 64 bits");
+        return sum;
+    }
+
+    void coordinate(std::int64_t value, bool latitude, const std::string& what) const {
+        std::int64_t scaled = 0;
+        std::int64_t placed = 0;
+        if (__builtin_mul_overflow(value, static_cast<std::int64_t>(granularity_), &scaled) ||
+            __builtin_add_overflow(scaled, latitude ? lat_offset_ : lon_offset_, &placed)) {
+            pbf_error(name_, what + ": its " + (latitude ? "latitude" : "longitude") + " runs past 64 bits");
+        }
+        // In nanodegrees.
+        const std::int64_t limit = latitude ? std::int64_t{90'000'000'000} : std::int64_t{180'000'000'000};
+        if (placed < -limit || placed > limit) {
+            pbf_error(name_, what + ": its " + (latitude ? "latitude" : "longitude") + " is out of range (" +
+                                 (latitude ? "-90 to 90" : "-180 to 180") + ")");
+        }
+    }
+
+    void node(std::string_view data) const {
+        protozero::pbf_reader message = reader(data);
+        std::int64_t id = 0, lat = 0, lon = 0;
+        while (message.next()) {
+            if (message.tag() == 1 && message.wire_type() == protozero::pbf_wire_type::varint) id = message.get_sint64();
+            else if (message.tag() == 8 && message.wire_type() == protozero::pbf_wire_type::varint) lat = message.get_sint64();
+            else if (message.tag() == 9 && message.wire_type() == protozero::pbf_wire_type::varint) lon = message.get_sint64();
+            else message.skip();
+        }
+        const std::string what = "node " + std::to_string(id);
+        coordinate(lat, true, what);
+        coordinate(lon, false, what);
+    }
+
+    void dense(std::string_view data) const {
+        std::string_view ids, lats, lons;
+        protozero::pbf_reader message = reader(data);
+        while (message.next()) {
+            if (message.wire_type() != protozero::pbf_wire_type::length_delimited) message.skip();
+            else if (message.tag() == 1) ids = view(message.get_view());
+            else if (message.tag() == 8) lats = view(message.get_view());
+            else if (message.tag() == 9) lons = view(message.get_view());
+            else message.skip();
+        }
+        std::vector<std::int64_t> id_deltas = packed(ids), lat_deltas = packed(lats), lon_deltas = packed(lons);
+        // libosmium decodes node after node and stops at the first whose coordinates are missing.
+        const std::size_t count = std::min({id_deltas.size(), lat_deltas.size(), lon_deltas.size()});
+        std::int64_t id = 0, lat = 0, lon = 0;
+        for (std::size_t i = 0; i < count; ++i) {
+            const std::string previous = "dense node " + std::to_string(i);
+            id = add(id, id_deltas[i], previous);
+            const std::string what = "node " + std::to_string(id);
+            lat = add(lat, lat_deltas[i], what);
+            lon = add(lon, lon_deltas[i], what);
+            coordinate(lat, true, what);
+            coordinate(lon, false, what);
+        }
+    }
+
+    void way(std::string_view data) const {
+        std::int64_t id = 0;
+        std::string_view refs, lats, lons;
+        protozero::pbf_reader message = reader(data);
+        while (message.next()) {
+            if (message.tag() == 1 && message.wire_type() == protozero::pbf_wire_type::varint) id = message.get_int64();
+            else if (message.wire_type() != protozero::pbf_wire_type::length_delimited) message.skip();
+            else if (message.tag() == 8) refs = view(message.get_view());
+            else if (message.tag() == 9) lats = view(message.get_view());
+            else if (message.tag() == 10) lons = view(message.get_view());
+            else message.skip();
+        }
+        const std::string what = "way " + std::to_string(id);
+        std::int64_t ref = 0;
+        for (const std::int64_t delta : packed(refs)) ref = add(ref, delta, what);
+        // Locations on ways (an osmium extension) are decoded only while refs, lats and lons last.
+        const std::vector<std::int64_t> lat_deltas = packed(lats), lon_deltas = packed(lons);
+        std::int64_t lat = 0, lon = 0;
+        for (std::size_t i = 0; i < std::min(lat_deltas.size(), lon_deltas.size()); ++i) {
+            lat = add(lat, lat_deltas[i], what);
+            lon = add(lon, lon_deltas[i], what);
+            coordinate(lat, true, what);
+            coordinate(lon, false, what);
+        }
+    }
+
+    static std::vector<std::int64_t> packed(std::string_view data) {
+        std::vector<std::int64_t> values;
+        if (data.data() == nullptr || data.empty()) return values;
+        const char* p = data.data();
+        const char* end = p + data.size();
+        try {
+            while (p != end) {
+                const std::uint64_t raw = protozero::decode_varint(&p, end);
+                values.push_back(protozero::decode_zigzag64(raw));
+            }
+        } catch (const protozero::exception&) {
+            // Truncated: libosmium decodes up to here, then reports it.
+        }
+        return values;
+    }
+
+    const std::string& name_;
+    std::int32_t granularity_ = 100;
+    std::int64_t lat_offset_ = 0;
+    std::int64_t lon_offset_ = 0;
+};
+
+} // namespace
+
+void check_pbf(std::string_view data, const std::string& name) {
     const std::uint64_t size = data.size();
     std::uint64_t offset = 0;
+    std::string block;
     while (offset + 4 <= size) {
         const auto* b = reinterpret_cast<const unsigned char*>(data.data() + offset);
         const std::uint32_t length = (std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) | (std::uint32_t{b[2]} << 8) | std::uint32_t{b[3]};
         if (length == 0 || length > 64 * 1024 || offset + 4 + length > size) return; // libosmium reports these itself
         bool typed = false;
+        bool osm_data = false;
         std::int64_t datasize = 0;
         try {
             protozero::pbf_reader message(data.data() + offset + 4, length);
             while (message.next()) {
                 if (message.tag() == 1 && message.wire_type() == protozero::pbf_wire_type::length_delimited) {
-                    typed = message.get_view().size() > 0;
+                    const std::string_view type = view(message.get_view());
+                    typed = !type.empty();
+                    osm_data = type == "OSMData";
                 } else if (message.tag() == 3 && message.wire_type() == protozero::pbf_wire_type::varint) {
                     datasize = message.get_int32();
                 } else {
@@ -219,12 +402,18 @@ void check_pbf_framing(std::string_view data, const std::string& name) {
         } catch (const protozero::exception&) {
             return; // a malformed header: libosmium reports it
         }
-        if (!typed) {
-            throw InputError(name + ": not a readable OSM file (PBF error: the blob header at byte " + std::to_string(offset) +
-                             " has no type)");
-        }
+        if (!typed) pbf_error(name, "the blob header at byte " + std::to_string(offset) + " has no type");
         if (datasize <= 0) return;
-        offset += 4 + length + static_cast<std::uint64_t>(datasize);
+        const std::uint64_t blob_start = offset + 4 + length;
+        if (blob_start + static_cast<std::uint64_t>(datasize) > size) return;
+        if (osm_data) {
+            try {
+                if (blob_bytes(data.substr(blob_start, static_cast<std::size_t>(datasize)), block)) BlockChecker(name, block);
+            } catch (const protozero::exception&) {
+                return; // malformed protobuf: libosmium reports it
+            }
+        }
+        offset = blob_start + static_cast<std::uint64_t>(datasize);
     }
 }
 

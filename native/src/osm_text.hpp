@@ -24,9 +24,12 @@ std::string read_osm_text(const std::string& path);
 // Throws InputError ("<name>: node 42: latitude '1e300' is out of range (-90 to 90)", ...).
 void check_osm_text(std::string_view text, TextFormat format, const std::string& name);
 
-// The framing of a PBF file, read whole into memory (files.hpp bounds it): every blob header
-// must name its type, which libosmium compares with a null pointer otherwise (undefined
-// behaviour found by fuzzing). Only the headers are read; the blobs are skipped.
-void check_pbf_framing(std::string_view data, const std::string& name);
+// A PBF file, read whole into memory (files.hpp bounds it), checked where libosmium does not
+// check (undefined behaviour found by fuzzing): every blob header must name its type, which
+// libosmium compares with a null pointer otherwise, and in every data block the deltas of ids
+// and coordinates must add up within 64 bits and every coordinate must lie within the world.
+// Throws InputError ("<name>: not a readable OSM file (PBF error: node 7: its latitude is out
+// of range (-90 to 90))"). What libosmium reports itself (bad framing, bad protobuf) is left to it.
+void check_pbf(std::string_view data, const std::string& name);
 
 } // namespace ggg::osm_detail

@@ -15,6 +15,9 @@
 #include <thread>
 
 #include <nlohmann/json.hpp>
+#include <osmium/builder/osm_object_builder.hpp>
+#include <osmium/io/any_output.hpp>
+#include <osmium/memory/buffer.hpp>
 
 #include "fixtures.hpp"
 #include "ggg/error.hpp"
@@ -417,4 +420,35 @@ TEST(Hardening, BoundsOutOfRangeAreAnErrorToo) {
     const std::string path = std::string(GGG_SOURCE_DIR) + "/native/tests/data/fuzz/osm_xml_bounds_exponent_overflow.osm";
     ASSERT_TRUE(fs::exists(path));
     expect_input_error(path, "bounds: latitude minlat '1e32' is out of range (-90 to 90)");
+}
+
+TEST(Hardening, APbfWithCoordinatesThatOverflowIsAnErrorNotUndefinedBehaviour) {
+    // Found by the OSM fuzzer: libosmium computes a dense node's coordinate as the sum of its
+    // deltas times the granularity plus the offset, in 64 bits without checks. The import
+    // checks that arithmetic first (osm_text.hpp), so the sanitizer run needs no suppression.
+    const std::string path = std::string(GGG_SOURCE_DIR) + "/native/tests/data/fuzz/osm_pbf_dense_node_coordinate_overflow.osm.pbf";
+    ASSERT_TRUE(fs::exists(path));
+    expect_input_error(path, "runs past 64 bits");
+}
+
+TEST(Hardening, APbfNodeOutsideTheWorldIsAnErrorNamingTheNode) {
+    // A location libosmium can hold (it stores 32 bits, up to ±214°) but the world cannot.
+    const fs::path dir = fs::temp_directory_path() / "ggg_hardening_pbf_range";
+    fs::create_directories(dir);
+    const std::string path = (dir / "outside.osm.pbf").string();
+    fs::remove(path);
+    {
+        osmium::memory::Buffer buffer{1024, osmium::memory::Buffer::auto_grow::yes};
+        {
+            osmium::builder::NodeBuilder node{buffer};
+            node.object().set_id(41);
+            node.object().set_location(osmium::Location{200.0, 10.0});
+        }
+        buffer.commit();
+        osmium::io::Writer writer{osmium::io::File{path, "pbf"}};
+        writer(std::move(buffer));
+        writer.close();
+    }
+    expect_input_error(path, "node 41: its longitude is out of range (-180 to 180)");
+    fs::remove_all(dir);
 }
