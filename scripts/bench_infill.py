@@ -90,7 +90,7 @@ def crossings(graph, new_edges):
     """Pairs of streets (a grown one and any other) whose segments cross away from their ends:
     two streets crossing without an intersection."""
     edges = np.asarray(graph.edges)
-    new = segments(graph, new_edges)
+    new = segments(graph, sorted(new_edges))
     if not new:
         return 0
     lo = np.min([np.minimum(a, b) for _e, a, b in new], axis=0) - 1.0
@@ -99,19 +99,29 @@ def crossings(graph, new_edges):
     near = [e for e in range(graph.edge_count)
             if np.any(inside(points[offsets[e]:offsets[e + 1]], lo[0], lo[1], hi[0], hi[1]))]
     others = segments(graph, near)
+    f_ids = np.array([f for f, _r, _s in others])
+    R = np.array([r for _f, r, _s in others])
+    S = np.array([s_ for _f, _r, s_ in others])
+    box_lo, box_hi = np.minimum(R, S), np.maximum(R, S)
     found = set()
     for e, p, q in new:
-        for f, r, s in others:
-            if f == e or (f in new_edges and f < e) or set(edges[e]) & set(edges[f]):
+        near_box = np.all(box_hi >= np.minimum(p, q), axis=1) & np.all(box_lo <= np.maximum(p, q), axis=1)
+        idx = np.flatnonzero(near_box & (f_ids != e))
+        if not len(idx):
+            continue
+        r, s_ = R[idx], S[idx]
+        d1, d2 = q - p, s_ - r
+        denominator = d1[0] * d2[:, 1] - d1[1] * d2[:, 0]
+        ok = np.abs(denominator) >= 1e-12
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = ((r[:, 0] - p[0]) * d2[:, 1] - (r[:, 1] - p[1]) * d2[:, 0]) / denominator
+            u = ((r[:, 0] - p[0]) * d1[1] - (r[:, 1] - p[1]) * d1[0]) / denominator
+        hit = ok & (t > 1e-6) & (t < 1 - 1e-6) & (u > 1e-6) & (u < 1 - 1e-6)
+        for f in f_ids[idx[hit]]:
+            f = int(f)
+            if (f in new_edges and f < e) or set(edges[e]) & set(edges[f]):
                 continue
-            d1, d2 = q - p, s - r
-            denominator = d1[0] * d2[1] - d1[1] * d2[0]
-            if abs(denominator) < 1e-12:
-                continue
-            t = ((r[0] - p[0]) * d2[1] - (r[1] - p[1]) * d2[0]) / denominator
-            u = ((r[0] - p[0]) * d1[1] - (r[1] - p[1]) * d1[0]) / denominator
-            if 1e-6 < t < 1 - 1e-6 and 1e-6 < u < 1 - 1e-6:
-                found.add((min(e, f), max(e, f)))
+            found.add((min(e, f), max(e, f)))
     return len(found)
 
 

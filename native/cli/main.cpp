@@ -23,6 +23,7 @@
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/synthesis/growth.hpp"
 #include "ggg/io/read_graph.hpp"
+#include "ggg/io/reports.hpp"
 #include "ggg/rewriting.hpp"
 
 namespace {
@@ -117,6 +118,8 @@ int main(int argc, char** argv) {
     grow->add_option("--patience", grow_options.patience, "Failed placements in a row after which the region counts as full")
         ->check(count_from<std::size_t>(1))
         ->capture_default_str();
+    grow->add_flag("!--no-tracing", grow_options.trace_streets,
+                   "Grow with rules alone: do not first trace the streets that reach the region on into it");
     import_flags.add_to(*grow);
     std::string compare_a, compare_b;
     auto* compare = app.add_subcommand("compare", "How alike two street networks are: distances of their degree, edge length, "
@@ -161,31 +164,11 @@ int main(int argc, char** argv) {
             const ggg::GeometricGraph grown = ggg::grow_region(base, grammar, region, grow_options, &report, terminal_progress());
             const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - start;
             ggg::write_graph(grown, output);
-            std::cout << nlohmann::json{{"vertices", grown.vertex_count()},
-                                        {"edges", grown.edge_count()},
-                                        {"placements", report.placements},
-                                        {"attempts", report.attempts},
-                                        {"added_vertices", report.added_vertices},
-                                        {"added_edges", report.added_edges},
-                                        {"border_connections", report.border_connections},
-                                        {"closing_edges", report.closing_edges},
-                                        {"t_junctions", report.t_junctions},
-                                        {"pruned_stubs", report.pruned_stubs},
-                                        {"main_road_routes", report.main_road_routes},
-                                        {"raised_streets", report.raised_streets},
-                                        {"main_road_connectors", report.main_road_connectors},
-                                        {"intersections", report.intersections},
-                                        {"rejected", {{"outside", report.rejected_outside},
-                                                      {"crossing", report.rejected_crossing},
-                                                      {"crowded", report.rejected_crowded},
-                                                      {"off_grid", report.rejected_off_grid},
-                                                      {"small_block", report.rejected_small_block}}},
-                                        {"grid", report.grid},
-                                        {"filled", report.filled},
-                                        {"stopped_by_budget", report.stopped_by_budget},
-                                        {"seconds", seconds.count()}}
-                             .dump()
-                      << std::endl;
+            nlohmann::json out = ggg::growth_report_json(report);
+            out["vertices"] = grown.vertex_count();
+            out["edges"] = grown.edge_count();
+            out["seconds"] = seconds.count();
+            std::cout << out.dump() << std::endl;
             return 0;
         }
         if (*compare) {

@@ -8,6 +8,7 @@
 #include "ggg/grammar.hpp"
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/analyzer.hpp"
+#include "ggg/io/reports.hpp"
 #include "ggg/synthesis/growth.hpp"
 #include "ggg/synthesis/replacement.hpp"
 #include "ggg/synthesis/street_hierarchy.hpp"
@@ -43,7 +44,7 @@ void bind_synthesis(py::module_& m) {
         "grow_region",
         [](const GeometricGraph& base, const Grammar& grammar, DoubleArray region, const py::int_& seed, std::int64_t max_placements,
            std::int64_t max_vertices, std::int64_t patience, std::optional<std::vector<std::tuple<Symbol, double, double, double, double>>> placements,
-           double border_m, bool hierarchy, std::optional<py::function> progress) {
+           double border_m, bool hierarchy, bool trace_streets, std::optional<py::function> progress) {
             if (region.ndim() != 2 || region.shape(1) != 2) throw UsageError("region must have shape (N, 2): the polygon's corners in metres");
             std::vector<Vec2> ring;
             const auto r = region.unchecked<2>();
@@ -55,44 +56,27 @@ void bind_synthesis(py::module_& m) {
             o.patience = count_arg("patience", patience); // 0: only the rules placed by hand
             o.border_m = border_m;
             o.continue_hierarchy = hierarchy;
+            o.trace_streets = trace_streets;
             if (placements) {
                 for (const auto& [symbol, x, y, scale, rotation] : *placements) o.placements.push_back({symbol, Vec2(x, y), Frame{scale, rotation}});
             }
             PythonProgress reporter(std::move(progress));
             GrowReport report;
             GeometricGraph grown = reporter.run([&](const ProgressCallback& cb) { return grow_region(base, grammar, ring, o, &report, cb); });
-            py::dict d;
-            d["placements"] = report.placements;
-            d["attempts"] = report.attempts;
-            d["added_vertices"] = report.added_vertices;
-            d["added_edges"] = report.added_edges;
-            d["border_connections"] = report.border_connections;
-            d["closing_edges"] = report.closing_edges;
-            d["t_junctions"] = report.t_junctions;
-            d["pruned_stubs"] = report.pruned_stubs;
-            d["rejected_outside"] = report.rejected_outside;
-            d["rejected_crossing"] = report.rejected_crossing;
-            d["rejected_crowded"] = report.rejected_crowded;
-            d["rejected_off_grid"] = report.rejected_off_grid;
-            d["rejected_small_block"] = report.rejected_small_block;
-            d["main_road_routes"] = report.main_road_routes;
-            d["raised_streets"] = report.raised_streets;
-            d["main_road_connectors"] = report.main_road_connectors;
-            d["intersections"] = report.intersections;
-            d["grid"] = report.grid;
-            d["filled"] = report.filled;
-            d["stopped_by_budget"] = report.stopped_by_budget;
+            py::object d = to_python(growth_report_json(report));
             return py::make_tuple(std::move(grown), d);
         },
         py::arg("base"), py::arg("grammar"), py::arg("region"), py::arg("seed") = 1, py::arg("max_placements") = GrowOptions{}.max_placements,
         py::arg("max_vertices") = GrowOptions{}.max_vertices, py::arg("patience") = GrowOptions{}.patience,
         py::arg("placements") = py::none(), py::arg("border_m") = GrowOptions{}.border_m,
-        py::arg("continue_hierarchy") = GrowOptions{}.continue_hierarchy, py::arg("progress") = py::none(),
+        py::arg("continue_hierarchy") = GrowOptions{}.continue_hierarchy, py::arg("trace_streets") = GrowOptions{}.trace_streets,
+        py::arg("progress") = py::none(),
         "Grow streets into `region` ((N,2) polygon corners in the base graph's metres) with the grammar's rules, from the\n"
         "streets of `base` that reach it (or the region's middle). placements: rules placed by hand, (symbol, x, y, scale,\n"
         "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. border_m: how near the region a base\n"
         "street must end to be grown from (< 0: 5 % of the region's size). continue_hierarchy: continue the main roads\n"
-        "through the grown streets at the end (see continue_hierarchy). Returns (Graph, report dict): the base\n"
+        "through the grown streets at the end (see continue_hierarchy). trace_streets: first trace the streets that reach\n"
+        "the region on into it, each new junction shaped like one of the city's (rules then fill what is left). Returns (Graph, report dict): the base\n"
         "with the grown streets after its own vertices and edges. Deterministic for a seed.");
 
     m.def(

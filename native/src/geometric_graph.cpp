@@ -53,14 +53,40 @@ EdgeId GeometricGraph::add_edge(VertexId u, VertexId v, const EdgeAttributes& a,
 
 VertexId GeometricGraph::split_edge(EdgeId e, const Vec2& where) {
     if (e < 0 || static_cast<std::size_t>(e) >= edges.size()) throw UsageError("split_edge: no edge " + std::to_string(e));
-    if (geometry_size(e) != 2) throw UsageError("split_edge: edge " + std::to_string(e) + " is not straight");
+    if (!where.allFinite()) throw UsageError("split_edge: the point must be finite");
     const auto i = static_cast<std::size_t>(e);
     const EdgeAttributes attributes = edge_attributes(e);
     const VertexId b = edges[i][1];
+    const std::size_t n = geometry_size(e);
+    if (n == 2) {
+        const VertexId x = add_vertex(where);
+        edges[i][1] = x;
+        geometry[static_cast<std::size_t>(geometry_offsets[i + 1] - 1)] = where;
+        add_edge(x, b, attributes);
+        return x;
+    }
+    // A polyline: split on its piece nearest to `where`. The points of e are stored between
+    // those of its neighbours, so its first half is written in place and the rest shifted.
+    const Vec2* p = geometry_begin(e);
+    std::size_t piece = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k + 1 < n; ++k) {
+        const Vec2 d = p[k + 1] - p[k];
+        const double t = std::clamp((where - p[k]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+        const double distance = (p[k] + t * d - where).squaredNorm();
+        if (distance < best) best = distance, piece = k;
+    }
+    std::vector<Vec2> second{where};
+    second.insert(second.end(), p + piece + 1, p + n);
+    const auto begin = static_cast<std::size_t>(geometry_offsets[i]);
+    const std::size_t kept = piece + 2; // p[0] .. p[piece], where
+    geometry[begin + piece + 1] = where;
+    geometry.erase(geometry.begin() + static_cast<std::ptrdiff_t>(begin + kept), geometry.begin() + static_cast<std::ptrdiff_t>(begin + n));
+    const auto removed = static_cast<std::int64_t>(n - kept);
+    for (std::size_t k = i + 1; k < geometry_offsets.size(); ++k) geometry_offsets[k] -= removed;
     const VertexId x = add_vertex(where);
     edges[i][1] = x;
-    geometry[static_cast<std::size_t>(geometry_offsets[i + 1] - 1)] = where;
-    add_edge(x, b, attributes);
+    add_edge(x, b, attributes, second);
     return x;
 }
 

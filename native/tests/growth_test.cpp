@@ -81,7 +81,7 @@ TEST(Growth, StaysInsideCrossesNothingAndKeepsTheBase) {
     const std::vector<Vec2> region = east_of_town();
     GrowReport report;
     const GeometricGraph grown = grow_region(t.graph, t.grammar, region, {}, &report);
-    ASSERT_GT(report.placements, 10u);
+    ASSERT_GT(report.placements + report.traced_streets, 10u);
     EXPECT_EQ(grown.vertex_count(), t.graph.vertex_count() + report.added_vertices);
     EXPECT_EQ(grown.edge_count(), t.graph.edge_count() + report.added_edges);
     for (std::size_t v = 0; v < t.graph.vertex_count(); ++v) ASSERT_EQ(grown.positions[v], t.graph.positions[v]);
@@ -91,7 +91,7 @@ TEST(Growth, StaysInsideCrossesNothingAndKeepsTheBase) {
     EXPECT_EQ(crossings(grown, t.graph.edge_count()), 0u);
     EXPECT_TRUE(check_simple(grown).empty()) << check_simple(grown);
     // It starts from the town's streets at the border: some grown streets end on them.
-    EXPECT_GT(report.border_connections, 0u);
+    EXPECT_GT(report.border_connections + report.traced_seeds, 0u);
     std::size_t joined = 0;
     for (std::size_t e = t.graph.edge_count(); e < grown.edge_count(); ++e) {
         joined += static_cast<std::size_t>(grown.edges[e][0]) < t.graph.vertex_count() || static_cast<std::size_t>(grown.edges[e][1]) < t.graph.vertex_count();
@@ -203,7 +203,7 @@ TEST(Growth, CommandLine) {
     const test::CliResult r = test::run_cli("grow " + grammar + " --region " + region + " --base " + sample + " --highways all -o " + out + " --seed 3");
     ASSERT_EQ(r.code, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
-    EXPECT_GT(j["placements"].get<int>(), 0);
+    EXPECT_GT(j["placements"].get<int>() + j["traced_streets"].get<int>(), 0);
     EXPECT_EQ(read_graph(out).edge_count(), j["edges"].get<std::size_t>());
     EXPECT_EQ(test::run_cli("grow " + grammar + " --region " + sample + " -o " + out).code, 1); // no polygon there
     EXPECT_EQ(test::run_cli("grow " + grammar + " -o " + out).code, 2);
@@ -243,6 +243,96 @@ TEST(Growth, AGrownRegionHasTheStyleOfItsCity) {
         EXPECT_LT(network_distances(from_paris, sp).orientation, network_distances(from_paris, sc).orientation) << "seed " << seed;
         EXPECT_LT(network_distances(from_paris, sp).mean(), network_distances(from_paris, sc).mean()) << "seed " << seed;
         EXPECT_GT(from_columbus.orientation_order, from_paris.orientation_order) << "seed " << seed;
+    }
+}
+
+} // namespace ggg
+
+namespace ggg {
+namespace {
+
+// Pairs of streets (one of them grown) whose polylines cross away from their ends.
+std::size_t polyline_crossings(const GeometricGraph& g, std::size_t from_edge) {
+    std::size_t n = 0;
+    for (std::size_t e = from_edge; e < g.edge_count(); ++e) {
+        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
+        const std::size_t np = g.geometry_size(static_cast<EdgeId>(e));
+        for (std::size_t f = 0; f < g.edge_count(); ++f) {
+            if (f == e || (f >= from_edge && f < e)) continue;
+            const Vec2* q = g.geometry_begin(static_cast<EdgeId>(f));
+            const std::size_t nq = g.geometry_size(static_cast<EdgeId>(f));
+            bool crossed = false;
+            for (std::size_t i = 0; i + 1 < np && !crossed; ++i) {
+                for (std::size_t k = 0; k + 1 < nq && !crossed; ++k) {
+                    const Vec2 r = p[i + 1] - p[i], s = q[k + 1] - q[k];
+                    const double d = cross2(r, s);
+                    if (std::abs(d) < 1e-12) continue;
+                    const double t = cross2(q[k] - p[i], s) / d, u = cross2(q[k] - p[i], r) / d;
+                    crossed = t > 1e-6 && t < 1 - 1e-6 && u > 1e-6 && u < 1 - 1e-6;
+                }
+            }
+            n += crossed;
+        }
+    }
+    return n;
+}
+
+} // namespace
+
+// The streets that a hole cut into a grid severed are traced on across it: nearly all of them
+// continue, the new junctions keep to the grid's right angles and to four streets at most, and
+// nothing crosses without an intersection.
+TEST(Growth, TracedStreetsContinueTheSeveredStreetsOfAGrid) {
+    GridOptions grid;
+    grid.n = 16;
+    grid.jitter = 0.03;
+    const GeometricGraph city = make_grid(grid); // 0 .. 1500 m
+    const double x0 = 420, x1 = 1080;            // the hole: 6 x 6 blocks and a bit
+    auto in_hole = [&](const Vec2& p) { return p.x() > x0 && p.x() < x1 && p.y() > x0 && p.y() < x1; };
+    GeometricGraph base;
+    std::vector<VertexId> id(city.vertex_count(), -1);
+    for (std::size_t v = 0; v < city.vertex_count(); ++v) {
+        if (!in_hole(city.positions[v])) id[v] = base.add_vertex(city.positions[v]);
+    }
+    std::set<VertexId> severed;
+    for (const auto& [a, b] : city.edges) {
+        const VertexId ia = id[static_cast<std::size_t>(a)], ib = id[static_cast<std::size_t>(b)];
+        if (ia >= 0 && ib >= 0) base.add_edge(ia, ib, {});
+        else if (ia >= 0 || ib >= 0) severed.insert(ia >= 0 ? ia : ib);
+    }
+    ASSERT_EQ(severed.size(), 24u);
+    const Grammar grammar = learn_grammar(base).grammar;
+    const std::vector<Vec2> hole{{x0, x0}, {x1, x0}, {x1, x1}, {x0, x1}};
+    for (const std::uint64_t seed : {1u, 2u, 3u}) {
+        GrowOptions o;
+        o.seed = seed;
+        GrowReport report;
+        const GeometricGraph grown = grow_region(base, grammar, hole, o, &report);
+        EXPECT_GE(report.traced_seeds, 20u) << "seed " << seed;
+        std::vector<std::size_t> degree(grown.vertex_count(), 0), base_degree(base.vertex_count(), 0);
+        for (const auto& [a, b] : grown.edges) ++degree[static_cast<std::size_t>(a)], ++degree[static_cast<std::size_t>(b)];
+        for (const auto& [a, b] : base.edges) ++base_degree[static_cast<std::size_t>(a)], ++base_degree[static_cast<std::size_t>(b)];
+        std::size_t continued = 0;
+        for (const VertexId v : severed) continued += degree[static_cast<std::size_t>(v)] > base_degree[static_cast<std::size_t>(v)];
+        EXPECT_GE(continued, 20u) << "seed " << seed << ": of the 24 severed streets";
+        EXPECT_LE(*std::max_element(degree.begin(), degree.end()), 4u) << "seed " << seed;
+        EXPECT_EQ(polyline_crossings(grown, base.edge_count()), 0u) << "seed " << seed;
+        for (std::size_t v = base.vertex_count(); v < grown.vertex_count(); ++v) EXPECT_TRUE(inside(hole, grown.positions[v])) << v;
+        for (std::size_t e = 0; e < base.edge_count(); ++e) ASSERT_EQ(grown.edges[e], base.edges[e]);
+        // About as many streets as the grid had there (its 6 x 6 blocks hold about 84).
+        const std::size_t added = grown.edge_count() - base.edge_count();
+        EXPECT_GE(added, 50u) << "seed " << seed;
+        EXPECT_LE(added, 140u) << "seed " << seed;
+        // The grid's right angles: nearly every grown street runs along it.
+        std::size_t along = 0, streets = 0;
+        for (std::size_t e = base.edge_count(); e < grown.edge_count(); ++e) {
+            const auto [a, b] = grown.edges[e];
+            const Vec2 d = grown.positions[static_cast<std::size_t>(b)] - grown.positions[static_cast<std::size_t>(a)];
+            const double angle = std::fmod(std::abs(std::atan2(d.y(), d.x())) * 180.0 / M_PI, 90.0);
+            along += std::min(angle, 90.0 - angle) < 10.0;
+            ++streets;
+        }
+        EXPECT_GE(static_cast<double>(along), 0.85 * static_cast<double>(streets)) << "seed " << seed;
     }
 }
 

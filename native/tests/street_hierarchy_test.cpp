@@ -201,8 +201,21 @@ TEST(GeometricGraph, SplitEdgeKeepsTheFirstHalfAndAppendsTheSecond) {
     EXPECT_EQ(g.edge_lanes[2], 2);
     EXPECT_EQ(g.edge_highway[2], HighwayClass::tertiary);
     EXPECT_EQ(g.geometry_size(1), 3u); // the other edge's polyline is untouched
-    EXPECT_THROW(g.split_edge(1, {0, 25}), UsageError); // not straight
+    // A polyline is split on its piece nearest the point; the streets stored after it keep theirs.
+    const VertexId y = g.split_edge(1, {-2.5, 12.5});
+    ASSERT_EQ(g.edge_count(), 4u);
+    EXPECT_EQ(g.edges[1], (std::array<VertexId, 2>{a, y}));
+    EXPECT_EQ(g.edges[3], (std::array<VertexId, 2>{y, c}));
+    EXPECT_EQ(g.geometry_size(1), 2u);
+    EXPECT_EQ(g.geometry_size(3), 3u);
+    EXPECT_NEAR(g.edge_length(1) + g.edge_length(3), 2 * std::hypot(5.0, 25.0), 1e-9);
+    EXPECT_EQ(g.geometry_begin(3)[1], Vec2(-5, 25));
+    EXPECT_EQ(g.geometry_size(2), 2u);
+    EXPECT_DOUBLE_EQ(g.edge_length(2), 60.0);
+    EXPECT_EQ(g.geometry_begin(2)[0], Vec2(40, 0));
+    EXPECT_EQ(g.edge_highway[3], HighwayClass::residential);
     EXPECT_THROW(g.split_edge(7, {0, 0}), UsageError);
+    EXPECT_THROW(g.split_edge(0, {std::nan(""), 0}), UsageError);
 }
 
 TEST(StreetHierarchy, BadInput) {
@@ -244,9 +257,12 @@ TEST(StreetHierarchy, MainRoadsOfColumbusMeetAcrossAGrownStrip) {
     GrowReport report;
     GrowOptions o;
     o.seed = 3;
+    // The hierarchy on streets grown from rules alone: traced streets (street_tracing.hpp)
+    // continue the main roads themselves, as main roads.
+    o.trace_streets = false;
     const std::vector<Vec2> strip{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
     const GeometricGraph grown = grow_region(base, grammar, strip, o, &report);
-    ASSERT_GT(report.placements, 20u);
+    ASSERT_GT(report.placements + report.traced_streets, 20u);
     // The same as growing without the hierarchy, then continuing it in the same region (the
     // main roads that end near it take part too).
     o.continue_hierarchy = false;

@@ -189,8 +189,12 @@ class ROADS_OT_grow_region(GrowSettings, Operator):
         return placed_rules(old, parsed)
 
     def _summary(self, graph_obj, region_obj, report, placed):
-        parts = ["Grew {} into {}: {}, {}, {} ({} from the border".format(
-            graph_obj.name, region_obj.name, plural(report["placements"], "rule"),
+        traced = ""
+        if report.get("traced_streets"):
+            traced = "{} traced on from {} at the border, ".format(
+                plural(report["traced_streets"], "street"), plural(report["traced_seeds"], "street"))
+        parts = ["Grew {} into {}: {}{}, {}, {} ({} from the border".format(
+            graph_obj.name, region_obj.name, traced, plural(report["placements"], "rule"),
             plural(report["added_vertices"], "vertex"), plural(report["added_edges"], "street"),
             report["border_connections"])]
         if report["closing_edges"]:
@@ -214,7 +218,7 @@ class ROADS_OT_grow_region(GrowSettings, Operator):
         return "; ".join(parts)
 
     def _nothing_message(self, graph_obj, region_obj, old, report):
-        if report["stopped_by_budget"] and report["placements"] == 0:
+        if report["stopped_by_budget"] and report["placements"] == 0 and not report.get("traced_streets"):
             reason = "the graph has {:,} vertices, the budget is {:,}".format(len(old.positions), self.max_vertices)
         else:
             reason = "no rule fits there ({}: {})".format(tries(report["attempts"]), rejections(report))

@@ -173,7 +173,7 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
             passes = [(text_a, parsed_a, self.seed, parsed_b is not None and self.share < 1.0)]
             if parsed_b is not None:
                 passes.append((text_b, parsed_b, self.seed + 1, False))
-            used, reports, first_placed = [], [], None
+            used, reports, first_placed, traced = [], [], None, None
             left = 0
             try:
                 graph = old.graph(ggg)
@@ -196,8 +196,14 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                         grown, first_placed = ggg.grow_region(
                             grown, parsed, polygon, seed=self.seed + 1, max_placements=len(placed[text.name]),
                             max_vertices=self.max_vertices, patience=0, placements=placed[text.name],
-                            continue_hierarchy=False)
+                            continue_hierarchy=False, trace_streets=False)
                         placed[text.name] = []
+                # The streets of both cities that reach the gap are traced on into it first,
+                # after the junctions around it (patience 0: no rule yet); the grammars' rules
+                # then fill what is left.
+                grown, traced = ggg.grow_region(
+                    grown, parsed_a, polygon, seed=self.seed, patience=0, max_vertices=self.max_vertices,
+                    continue_hierarchy=False, progress=ThrottledProgress(progress))
                 for text, parsed, seed, shared in passes:
                     fitting = placed.pop(text.name, [])
 
@@ -205,7 +211,7 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                         return ggg.grow_region(
                             grown, parsed, polygon, seed=seed, max_placements=max_placements,
                             max_vertices=self.max_vertices, patience=self.patience, placements=fitting,
-                            continue_hierarchy=False, progress=ThrottledProgress(progress))
+                            continue_hierarchy=False, trace_streets=False, progress=ThrottledProgress(progress))
 
                     result = grow(self.max_placements)
                     if shared:
@@ -270,7 +276,7 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
             active.select_set(True)
             context.view_layer.objects.active = active
             progress.step(1.0, "done")
-        counts = {"passes": reports, "added_vertices": added, "added_edges": new_edges, "from_a": from_a,
+        counts = {"passes": reports, "traced": traced, "added_vertices": added, "added_edges": new_edges, "from_a": from_a,
                   "from_b": from_b, "placed": len(used), "hierarchy": hierarchy}
         return counts, left
 
@@ -282,6 +288,10 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                                plural(rules_b, "rule"), name_b, plural(counts["added_vertices"], "vertex"),
                                "{:,}".format(counts["added_edges"]), counts["from_a"], name_a, counts["from_b"],
                                name_b)]
+        traced = counts["traced"]
+        if traced and traced["traced_streets"]:
+            parts.append("{} traced on into it from {} of both".format(
+                plural(traced["traced_streets"], "street"), plural(traced["traced_seeds"], "street")))
         if counts["placed"]:
             parts.append("{} grown".format(plural(counts["placed"], "placed rule")))
         hierarchy = counts["hierarchy"]

@@ -75,10 +75,11 @@ public:
     EdgeId add_edge(VertexId u, VertexId v, const EdgeAttributes& attributes,
                     const std::vector<Vec2>& polyline = {});
 
-    // A new vertex at `where` on the straight edge e = (a, b): e becomes (a, x), keeping its
-    // id, and (x, b) is appended with e's attributes. Returns x. A street gets a junction
-    // where another meets it; ids of everything else stay. Throws UsageError for an edge out
-    // of range or one with a polyline.
+    // A new vertex at `where` on the edge e = (a, b): e becomes (a, x), keeping its id, and
+    // (x, b) is appended with e's attributes. Returns x. A street gets a junction where another
+    // meets it; ids of everything else stay. A polyline is split on its piece nearest to
+    // `where` (which should lie on it), each half keeping its points. Throws UsageError for an
+    // edge out of range or a point that is not finite.
     VertexId split_edge(EdgeId e, const Vec2& where);
 
     EdgeAttributes edge_attributes(EdgeId e) const;

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "ggg/geometric_graph.hpp"
 #include "ggg/similarity.hpp"
 
 namespace ggg {
@@ -53,6 +54,56 @@ inline std::optional<std::pair<double, double>> segment_meeting(const Vec2& p, c
     const double u = cross(a - p, r) / d;
     if (t < 0.0 || t > 1.0 || u < 0.0 || u > 1.0) return std::nullopt;
     return std::pair{t, u};
+}
+
+// True when segments ab and cd cross or touch anywhere but at an end they share.
+inline bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    const double eps = 1e-9 * std::max({(b - a).norm(), (d - c).norm(), 1.0});
+    auto same = [&](const Vec2& p, const Vec2& q) { return (p - q).norm() <= eps; };
+    const bool shared = same(a, c) || same(a, d) || same(b, c) || same(b, d);
+    const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
+    const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+    if (((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))) return true;
+    if (shared) return false; // touching at a common end is how streets meet
+    auto on = [&](const Vec2& p, const Vec2& q, const Vec2& r) { // r on segment pq
+        return std::abs(cross(q - p, r - p)) <= eps * (q - p).norm() && (r - p).dot(r - q) <= 0;
+    };
+    return on(a, b, c) || on(a, b, d) || on(c, d, a) || on(c, d, b);
+}
+
+// The area of the block to the left of the street u -> v, walking round it by always taking
+// the sharpest left turn; 0 when the walk does not come back within `max_steps` streets (a
+// block too large to matter, or one that the streets known here do not close) or goes
+// round the outside (clockwise). `neighbours(w)` lists the streets at w.
+template <class Neighbours>
+double block_left_of(const std::vector<Vec2>& positions, Neighbours&& neighbours, VertexId u, VertexId v, std::size_t max_steps = 64) {
+    const VertexId start_u = u, start_v = v;
+    double twice_area = 0.0;
+    for (std::size_t step = 0; step < max_steps; ++step) {
+        const Vec2& pu = positions[static_cast<std::size_t>(u)];
+        const Vec2& pv = positions[static_cast<std::size_t>(v)];
+        twice_area += cross(pu, pv);
+        // At v, the street that turns most to the left, i.e. the first clockwise from v -> u.
+        const Vec2 back = pu - pv;
+        const double back_angle = std::atan2(back.y(), back.x());
+        VertexId next = -1;
+        double best = 0.0;
+        for (VertexId w : neighbours(v)) {
+            const Vec2 d = positions[static_cast<std::size_t>(w)] - pv;
+            double turn = back_angle - std::atan2(d.y(), d.x());
+            while (turn <= 1e-12) turn += 2.0 * M_PI;
+            while (turn > 2.0 * M_PI + 1e-12) turn -= 2.0 * M_PI;
+            if (next < 0 || turn < best) {
+                next = w;
+                best = turn;
+            }
+        }
+        if (next < 0) return 0.0;
+        u = v;
+        v = next;
+        if (u == start_u && v == start_v) return twice_area > 0 ? 0.5 * twice_area : 0.0;
+    }
+    return 0.0;
 }
 
 } // namespace ggg

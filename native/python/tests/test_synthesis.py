@@ -20,14 +20,17 @@ def test_grow_east_of_a_grid():
     grammar, _ = ggg.learn(g)
     region = np.array([[720.0, -50.0], [1500.0, -50.0], [1500.0, 750.0], [720.0, 750.0]])
     grown, report = ggg.grow_region(g, grammar, region, seed=4)
-    assert report["placements"] > 0 and report["border_connections"] > 0
+    # The grid's streets that end at its east edge are traced on into the region.
+    assert report["traced_seeds"] >= 6 and report["traced_streets"] > 20
     assert grown.vertex_count == g.vertex_count + report["added_vertices"]
     assert np.array_equal(grown.positions[:g.vertex_count], g.positions)
     assert np.array_equal(grown.edges[:g.edge_count], g.edges)
     assert all(inside(region, p) for p in grown.positions[g.vertex_count:])
     again, _ = ggg.grow_region(g, grammar, region, seed=4)
     assert np.array_equal(again.positions, grown.positions)
-    small, report = ggg.grow_region(g, grammar, region, seed=4, max_placements=3)
+    rules, report = ggg.grow_region(g, grammar, region, seed=4, trace_streets=False)
+    assert report["traced_streets"] == 0 and report["placements"] > 0 and report["border_connections"] > 0
+    small, report = ggg.grow_region(g, grammar, region, seed=4, max_placements=3, trace_streets=False)
     assert report["placements"] == 3 and report["stopped_by_budget"]
     with pytest.raises(ggg.UsageError):
         ggg.grow_region(g, grammar, np.zeros((2, 2)))

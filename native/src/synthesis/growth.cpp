@@ -19,6 +19,7 @@
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/rewriting.hpp"
 #include "ggg/synthesis/street_hierarchy.hpp"
+#include "street_tracing.hpp"
 
 namespace ggg {
 namespace {
@@ -31,56 +32,6 @@ using PointEntry = std::pair<Point, VertexId>;
 using SegmentEntry = std::pair<Box, EdgeId>;
 
 Point point(const Vec2& p) { return {p.x(), p.y()}; }
-
-// True when segments ab and cd cross or touch anywhere but at an end they share.
-bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-    const double eps = 1e-9 * std::max({(b - a).norm(), (d - c).norm(), 1.0});
-    auto same = [&](const Vec2& p, const Vec2& q) { return (p - q).norm() <= eps; };
-    const bool shared = same(a, c) || same(a, d) || same(b, c) || same(b, d);
-    const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
-    const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
-    if (((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))) return true;
-    if (shared) return false; // touching at a common end is how streets meet
-    auto on = [&](const Vec2& p, const Vec2& q, const Vec2& r) { // r on segment pq
-        return std::abs(cross(q - p, r - p)) <= eps * (q - p).norm() && (r - p).dot(r - q) <= 0;
-    };
-    return on(a, b, c) || on(a, b, d) || on(c, d, a) || on(c, d, b);
-}
-
-// The area of the block to the left of the street u -> v, walking round it by always taking
-// the sharpest left turn; 0 when the walk does not come back within `max_steps` streets (a
-// block too large to matter, or one that the streets known here do not close) or goes
-// round the outside (clockwise). `neighbours(w)` lists the streets at w.
-template <class Neighbours>
-double block_left_of(const std::vector<Vec2>& positions, Neighbours&& neighbours, VertexId u, VertexId v, std::size_t max_steps = 64) {
-    const VertexId start_u = u, start_v = v;
-    double twice_area = 0.0;
-    for (std::size_t step = 0; step < max_steps; ++step) {
-        const Vec2& pu = positions[static_cast<std::size_t>(u)];
-        const Vec2& pv = positions[static_cast<std::size_t>(v)];
-        twice_area += cross(pu, pv);
-        // At v, the street that turns most to the left, i.e. the first clockwise from v -> u.
-        const Vec2 back = pu - pv;
-        const double back_angle = std::atan2(back.y(), back.x());
-        VertexId next = -1;
-        double best = 0.0;
-        for (VertexId w : neighbours(v)) {
-            const Vec2 d = positions[static_cast<std::size_t>(w)] - pv;
-            double turn = back_angle - std::atan2(d.y(), d.x());
-            while (turn <= 1e-12) turn += 2.0 * M_PI;
-            while (turn > 2.0 * M_PI + 1e-12) turn -= 2.0 * M_PI;
-            if (next < 0 || turn < best) {
-                next = w;
-                best = turn;
-            }
-        }
-        if (next < 0) return 0.0;
-        u = v;
-        v = next;
-        if (u == start_u && v == start_v) return twice_area > 0 ? 0.5 * twice_area : 0.0;
-    }
-    return 0.0;
-}
 
 // A rule derived all the way to streets, at unit size: what one placement adds.
 struct Prototype {
@@ -200,7 +151,8 @@ public:
         // (a learned grammar decodes to its city; a hand-written one is judged by its rules).
         std::vector<std::pair<Vec2, Vec2>> streets;
         if (!grammar_.encoding.empty()) {
-            const GeometricGraph city = decode_grammar(grammar_);
+            style_city_ = decode_grammar(grammar_);
+            const GeometricGraph& city = style_city_;
             for (const auto& [a, b] : city.edges) streets.emplace_back(city.positions[static_cast<std::size_t>(a)], city.positions[static_cast<std::size_t>(b)]);
             // No block much smaller than the city's small ones: the smallest tenth of a city's
             // blocks are mostly slivers (turn lanes, traffic islands), which growth would
@@ -242,6 +194,22 @@ public:
             for (const FrontierEdge& f : frontier_) near.emplace_back(g_.positions[static_cast<std::size_t>(f.a)], g_.positions[static_cast<std::size_t>(f.b)]);
             const auto [squareness, angle] = four_fold(near);
             if (squareness >= 0.7) grid_angle_ = angle; // the streets around run on a grid: keep it
+        }
+        if (o_.trace_streets) {
+            // The streets that reach the region are traced on into it first, after the
+            // junctions of the grammar's city (or, for a hand-written grammar, of the base).
+            growth_detail::TracingSettings tracing;
+            tracing.border_m = border;
+            tracing.max_vertices = o_.max_vertices;
+            tracing.min_block_m2 = split_block_m2_;
+            const GeometricGraph& style = grammar_.encoding.empty() ? base_copy_for_style() : style_city_;
+            const growth_detail::TracingReport traced = growth_detail::trace_streets(g_, base_vertices_, style, region_, tracing, rng_, progress_);
+            report.traced_seeds = traced.seeds;
+            report.traced_streets = traced.streets;
+            report.traced_joined = traced.joined;
+            report.traced_t_junctions = traced.t_junctions;
+            if (traced.streets > 0) reindex();
+            if (g_.vertex_count() >= o_.max_vertices) report.stopped_by_budget = true;
         }
         if (frontier_.empty()) seed_at_centre();
 
@@ -286,6 +254,25 @@ public:
     }
 
 private:
+    const GeometricGraph& base_copy_for_style() {
+        style_city_ = g_;
+        return style_city_;
+    }
+
+    // The indexes again, after the streets were traced (the base stays the base).
+    void reindex() {
+        vertices_.clear();
+        segments_.clear();
+        adjacency_.assign(g_.vertex_count(), {});
+        for (std::size_t e = 0; e < g_.edge_count(); ++e) {
+            const auto [a, b] = g_.edges[e];
+            adjacency_[static_cast<std::size_t>(a)].push_back(b);
+            adjacency_[static_cast<std::size_t>(b)].push_back(a);
+            index_edge(static_cast<EdgeId>(e));
+        }
+        for (std::size_t v = 0; v < g_.vertex_count(); ++v) vertices_.insert({point(g_.positions[v]), static_cast<VertexId>(v)});
+    }
+
     void index_graph() {
         base_vertices_ = g_.vertex_count();
         base_edges_ = g_.edge_count();
@@ -483,6 +470,21 @@ private:
             }
             added.push_back({a, b});
             classes.push_back(local.edge_highway[e]);
+        }
+        // No junction of more than four streets (a star), which snapping would otherwise pile
+        // up where several of the rule's vertices land on one street vertex.
+        if (!by_hand) {
+            std::unordered_map<VertexId, std::size_t> gained; // by global id, or -1 - local id when new
+            for (const auto& [a, b] : added) {
+                for (const VertexId x : {a, b}) {
+                    const VertexId key = global[static_cast<std::size_t>(x)] >= 0 ? global[static_cast<std::size_t>(x)] : -1 - x;
+                    const std::size_t before = key >= 0 ? adjacency_[static_cast<std::size_t>(key)].size() : 0;
+                    if (before + ++gained[key] > 4) {
+                        ++report_->rejected_star;
+                        return false;
+                    }
+                }
+            }
         }
         // No new street may cross a street or another new one.
         for (std::size_t i = 0; i < added.size(); ++i) {
@@ -742,6 +744,7 @@ private:
     }
 
     GeometricGraph g_;
+    GeometricGraph style_city_; // the city whose junctions traced streets copy
     const Grammar& grammar_;
     const std::vector<Vec2>& region_;
     const GrowOptions& o_;

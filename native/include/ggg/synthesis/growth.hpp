@@ -71,6 +71,9 @@ struct GrowOptions {
     double prune_stubs = 0.75;
     // Main roads that reach the grown streets continue through them (street_hierarchy.hpp).
     bool continue_hierarchy = true;
+    // The streets that reach the region are first traced on into it, each new junction shaped
+    // like one of the grammar's city's (street_tracing.hpp); rules then fill what is left.
+    bool trace_streets = true;
     std::vector<RulePlacement> placements; // rules placed by hand, grown from first
 };
 
@@ -82,6 +85,11 @@ struct GrowReport {
     std::size_t rejected_crowded = 0;  // a new vertex too close to another
     std::size_t rejected_off_grid = 0; // a square rule turned off the grid around
     std::size_t rejected_small_block = 0; // a new street closing a block smaller than the city's
+    std::size_t rejected_star = 0;     // a junction of more than four streets
+    std::size_t traced_seeds = 0;       // streets reaching the region that were traced on into it
+    std::size_t traced_streets = 0;     // streets added by tracing
+    std::size_t traced_joined = 0;      // traced streets that ended at a junction already there
+    std::size_t traced_t_junctions = 0; // traced streets that ended on a street, split there
     std::size_t added_vertices = 0;
     std::size_t added_edges = 0;
     std::size_t border_connections = 0; // placements that started from a base street

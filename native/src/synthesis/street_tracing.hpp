@@ -1,0 +1,44 @@
+#pragma once
+// Streets continued into a region the way the city's own streets run: the first stage of
+// growth (growth.hpp). Every street that reaches the region is traced on into it, one street
+// at a time, and each new junction takes the shape of one of the city's own junctions: how
+// many streets leave it, at which angles, how long they are, how they bend and of which class
+// they are. The city here is the grammar's (a learned grammar decodes to it), so a district
+// grows in the style its grammar was learned from.
+//
+// Parish & Müller's local constraints join the traced streets to what is there instead of
+// dropping them: a street that ends near a junction ends at it, one that ends near a street
+// meets it in a T-junction, one that crosses a street stops there in an intersection. Main
+// roads are traced first, then the streets between them. No junction gets more than four
+// streets, and no street leaves the region except to join a street outside it.
+#include <cstddef>
+#include <random>
+#include <vector>
+
+#include "ggg/geometric_graph.hpp"
+#include "ggg/progress.hpp"
+
+namespace ggg::growth_detail {
+
+struct TracingReport {
+    std::size_t seeds = 0;        // streets of the base that reach the region and were traced on
+    std::size_t streets = 0;      // streets added
+    std::size_t joined = 0;       // streets that ended at a junction already there
+    std::size_t t_junctions = 0;  // streets that ended on a street, split there
+    std::size_t dropped = 0;      // streets that fitted nowhere
+};
+
+struct TracingSettings {
+    double border_m = 0.0;            // a base street this close to the region reaches it
+    std::size_t max_vertices = 0;     // the whole graph, base included
+    double min_block_m2 = 0.0;        // no street closes a block smaller than this
+};
+
+// Adds the traced streets to `g` (whose first `base_vertices` vertices are the base). `city`
+// is the example (the grammar's city); nothing is traced when it has no junctions to learn
+// from or no street reaches the region.
+TracingReport trace_streets(GeometricGraph& g, std::size_t base_vertices, const GeometricGraph& city,
+                            const std::vector<Vec2>& region, const TracingSettings& settings, std::mt19937_64& rng,
+                            const ProgressCallback& progress);
+
+} // namespace ggg::growth_detail
