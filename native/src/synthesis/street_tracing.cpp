@@ -37,6 +37,19 @@ double wrap(double a) { // into (-pi, pi]
 // Main roads (and their links) are traced before the streets between them.
 bool main_class(HighwayClass c) { return highway_rank(c) <= highway_rank(HighwayClass::tertiary_link); }
 
+// Motorways, trunk roads and the links of any road are not traced: they are not streets of a
+// district's pattern but routes through it, with ramps instead of junctions (the main roads
+// are continued across the grown streets afterwards, street_hierarchy.hpp).
+bool traced_class(HighwayClass c) {
+    switch (c) {
+    case HighwayClass::motorway: case HighwayClass::trunk: case HighwayClass::motorway_link: case HighwayClass::trunk_link:
+    case HighwayClass::primary_link: case HighwayClass::secondary_link: case HighwayClass::tertiary_link:
+        return false;
+    default:
+        return true;
+    }
+}
+
 // One street leaving an example junction, seen from a street arriving at it: its turn from
 // straight ahead, its length (end to end) and its shape in a frame where it runs from (0, 0)
 // to (1, 0).
@@ -62,6 +75,8 @@ struct Street {
     bool main = false;
     std::size_t generation = 0;
     std::size_t order = 0;
+    int retries = 0;         // a street from the base that reaches the region is tried again
+    double min_length = 0.0; // (and must still reach into the region)
 };
 
 struct Later {
@@ -89,7 +104,14 @@ public:
         // the grammar's city is the example where the base has too few of them.
         double size = 0.0;
         for (const Vec2& p : region_) size = std::max(size, (p - region_.front()).norm());
-        learn_examples(g_, 2.0 * size);
+        // The nearest streets first (the parts of a city differ), further out until there are
+        // enough of them.
+        for (double radius = 0.25 * size; radius <= 2.0 * size; radius *= 2) {
+            main_examples_.clear();
+            other_examples_.clear();
+            learn_examples(g_, radius);
+            if (main_examples_.size() + other_examples_.size() >= 400) break;
+        }
         if (main_examples_.size() + other_examples_.size() < 200) {
             main_examples_.clear();
             other_examples_.clear();
@@ -101,7 +123,6 @@ public:
         if (main_examples_.empty() && other_examples_.empty()) return report_;
         fixed_edges_ = g_.edge_count();
         index();
-        learn_grid();
         seed();
         std::size_t steps = 0;
         const std::size_t max_steps = 50 * s_.max_vertices + 1000;
@@ -149,6 +170,7 @@ private:
             if ((p - lo).minCoeff() < margin || (hi - p).minCoeff() < margin) return true;
             return inside(region_, p) || distance_to_ring(region_, p) < 1.5 * typical_;
         };
+        std::vector<std::size_t> class_counts(highway_class_count, 0);
         for (std::size_t c = 0; c < n; ++c) {
             const auto& edges = at[c];
             if (edges.empty() || edges.size() > 4) continue;
@@ -156,6 +178,7 @@ private:
             if (at_a_border(pc)) continue;
             if (std::isfinite(radius) && distance_to_ring(region_, pc) > radius) continue;
             for (const EdgeId in : edges) {
+                if (!traced_class(city.edge_highway[static_cast<std::size_t>(in)])) continue;
                 const Vec2 before = leaving(city, in, static_cast<VertexId>(c));
                 if ((pc - before).norm() < 1e-6) continue;
                 const double arriving = angle_of(pc - before);
@@ -167,6 +190,7 @@ private:
                         main = main_class(city.edge_highway[static_cast<std::size_t>(out)]);
                         continue;
                     }
+                    if (!traced_class(city.edge_highway[static_cast<std::size_t>(out)])) continue;
                     const auto [a, b] = city.edges[static_cast<std::size_t>(out)];
                     const bool forward = a == static_cast<VertexId>(c);
                     const Vec2 far = city.positions[static_cast<std::size_t>(forward ? b : a)];
@@ -192,9 +216,17 @@ private:
                     branch.shape.back() = Vec2(1, 0);
                     example.branches.push_back(std::move(branch));
                 }
-                if (usable) (main ? main_examples_ : other_examples_).push_back(std::move(example));
+                if (!usable) continue;
+                for (const Branch& b : example.branches) ++class_counts[static_cast<std::size_t>(b.highway)];
+                (main ? main_examples_ : other_examples_).push_back(std::move(example));
             }
         }
+        pick_common_class(class_counts);
+    }
+
+    void pick_common_class(const std::vector<std::size_t>& class_counts) {
+        const auto most = std::max_element(class_counts.begin(), class_counts.end());
+        if (*most > 0) common_class_ = static_cast<HighwayClass>(most - class_counts.begin());
     }
 
     const Example& example_for(bool main) {
@@ -357,6 +389,7 @@ private:
             // Straight on from each street at v, where that leaves room and enters the region.
             std::optional<std::pair<double, Street>> best;
             for (const EdgeId e : adjacency_[v]) {
+                if (!traced_class(g_.edge_highway[static_cast<std::size_t>(e)])) continue;
                 const Vec2 back = leaving(g_, e, id) - p;
                 if (back.norm() < 1e-9) continue;
                 const Vec2 ahead = -back.normalized();
@@ -386,7 +419,7 @@ private:
                     Street s;
                     s.from = id;
                     s.heading = wrap(middle);
-                    s.highway = g_.edge_highway[static_cast<std::size_t>(adjacency_[v].front())];
+                    s.highway = common_class_;
                     s.main = false;
                     best = std::pair{enters, s};
                 }
@@ -400,7 +433,7 @@ private:
                     Street s;
                     s.from = id;
                     s.heading = angle_of(towards);
-                    s.highway = degree(id) ? g_.edge_highway[static_cast<std::size_t>(adjacency_[v].front())] : HighwayClass::residential;
+                    s.highway = common_class_;
                     s.main = false;
                     best = std::pair{enters, s};
                 }
@@ -419,7 +452,8 @@ private:
             }
             if (!through) continue;
             // Straight until it is in the region: the base's street goes on as it ran.
-            s.length = std::max(through->length, enters + 0.25 * typical_);
+            s.min_length = enters + 0.25 * typical_;
+            s.length = std::max(through->length, s.min_length);
             s.shape = {Vec2(0, 0), Vec2(1, 0)};
             s.order = order_++;
             queue_.push(s);
@@ -451,17 +485,20 @@ private:
         return first < 0 ? -1.0 : first * reach;
     }
 
-    // Where the streets around the region run on a grid (most of their length along two
-    // perpendicular directions), traced streets keep to it: a heading within a few degrees of
-    // the grid is turned onto it, so that small bends of the example do not add up.
-    void learn_grid() {
-        const double reach = s_.border_m + 3.0 * typical_;
+    // Where the streets around a point run on a grid (most of their length along two
+    // perpendicular directions), a street traced from there keeps to it: a heading within a
+    // few degrees of the grid is turned onto it, so that the small bends of the examples do not
+    // add up. Local, so that a grid district and a winding one next to it each keep their own.
+    std::optional<double> local_grid(const Vec2& p) const {
+        const double r = 3.0 * typical_;
+        const Box window(Point(p.x() - r, p.y() - r), Point(p.x() + r, p.y() + r));
         double c = 0.0, sn = 0.0, total = 0.0;
-        for (std::size_t e = 0; e < g_.edge_count(); ++e) {
-            const Vec2* p = g_.geometry_begin(static_cast<EdgeId>(e));
-            for (std::size_t i = 0; i + 1 < g_.geometry_size(static_cast<EdgeId>(e)); ++i) {
-                if (distance_to_ring(region_, p[i]) > reach && !inside(region_, p[i])) continue;
-                const Vec2 d = p[i + 1] - p[i];
+        for (auto it = segments_.qbegin(bgi::intersects(window)); it != segments_.qend(); ++it) {
+            const EdgeId e = it->second;
+            const Vec2* q = g_.geometry_begin(e);
+            for (std::size_t i = 0; i + 1 < g_.geometry_size(e); ++i) {
+                if ((0.5 * (q[i] + q[i + 1]) - p).squaredNorm() > r * r) continue;
+                const Vec2 d = q[i + 1] - q[i];
                 const double length = d.norm();
                 const double a = 4.0 * angle_of(d);
                 c += length * std::cos(a);
@@ -469,22 +506,23 @@ private:
                 total += length;
             }
         }
-        if (total <= 0 || std::hypot(c, sn) / total < 0.5) return;
-        grid_angle_ = std::atan2(sn, c) / 4.0;
+        if (total < 2.0 * typical_ || std::hypot(c, sn) / total < 0.6) return std::nullopt;
+        return std::atan2(sn, c) / 4.0;
     }
 
-    double on_grid(double heading) const {
-        if (!grid_angle_) return heading;
+    double on_grid(double heading, const Vec2& p) const {
+        const std::optional<double> grid = local_grid(p);
+        if (!grid) return heading;
         const double quarter = M_PI / 2;
-        const double k = std::round((heading - *grid_angle_) / quarter);
-        const double snapped = *grid_angle_ + k * quarter;
+        const double k = std::round((heading - *grid) / quarter);
+        const double snapped = *grid + k * quarter;
         return std::abs(wrap(heading - snapped)) <= grid_tolerance_ ? snapped : heading;
     }
 
     std::vector<Vec2> lay(const Street& s) const { return lay_from(g_.positions[static_cast<std::size_t>(s.from)], s); }
 
     std::vector<Vec2> lay_from(const Vec2& p, const Street& s) const {
-        const Vec2 x = s.length * unit(on_grid(s.heading));
+        const Vec2 x = s.length * unit(on_grid(s.heading, p));
         std::vector<Vec2> line;
         for (const Vec2& q : s.shape) line.push_back(p + Vec2(x.x() * q.x() - x.y() * q.y(), x.y() * q.x() + x.x() * q.y()));
         return line;
@@ -619,6 +657,18 @@ private:
         }
     }
 
+    // A street of the base that reaches the region is what joins the growth to the city: where
+    // it fits nowhere, it is tried again turned a little further each time, and longer or shorter.
+    void retry(const Street& s) {
+        Street again = s;
+        ++again.retries;
+        const double step = (again.retries + 1) / 2 * (M_PI / 30); // 6, 6, 12, 12, ... degrees
+        again.heading = s.heading + (again.retries % 2 ? step : -step);
+        again.length = std::max(s.min_length, s.length * std::uniform_real_distribution<double>(0.7, 1.3)(rng_));
+        again.order = order_++;
+        queue_.push(std::move(again));
+    }
+
     void trace(const Street& s) {
         if (degree(s.from) >= 4) return;
         std::vector<Vec2> line = lay(s);
@@ -633,6 +683,7 @@ private:
             if (settled == Settled::dropped || nearest_vertex(line.back(), 0.5 * typical_, s.from)) {
                 // Dropped: it ends at its last bend, if it had one.
                 if (!open.empty() && !nearest_vertex(open.back(), 0.5 * typical_, s.from)) open_end(s, open, nullptr, false);
+                else if (s.generation == 0 && s.retries < 8) retry(s);
                 else drop();
                 return;
             }
@@ -732,12 +783,12 @@ private:
     TracingReport report_;
     std::vector<Example> main_examples_, other_examples_;
     std::size_t fixed_edges_ = 0; // the streets there before: never split (their ids and ends are kept)
+    HighwayClass common_class_ = HighwayClass::residential; // of the examples' streets: that of a new side street
     double typical_ = 50.0; // median street of the examples, end to end
     double long_ = 100.0;   // their 90th percentile
     double expected_streets_ = 1.0;
     const double min_angle_ = M_PI / 6;
     const double grid_tolerance_ = M_PI / 12;
-    std::optional<double> grid_angle_;
     std::vector<std::vector<EdgeId>> adjacency_;
     bgi::rtree<PointEntry, bgi::rstar<16>> vertices_;
     bgi::rtree<SegmentEntry, bgi::rstar<16>> segments_;
