@@ -171,12 +171,23 @@ private:
             return inside(region_, p) || distance_to_ring(region_, p) < 1.5 * typical_;
         };
         std::vector<std::size_t> class_counts(highway_class_count, 0);
+        std::size_t right = 0, angles = 0;
         for (std::size_t c = 0; c < n; ++c) {
             const auto& edges = at[c];
             if (edges.empty() || edges.size() > 4) continue;
             const Vec2 pc = city.positions[c];
             if (at_a_border(pc)) continue;
             if (std::isfinite(radius) && distance_to_ring(region_, pc) > radius) continue;
+            if (edges.size() >= 3) {
+                std::vector<double> around;
+                for (const EdgeId e : edges) around.push_back(angle_of(leaving(city, e, static_cast<VertexId>(c)) - pc));
+                std::sort(around.begin(), around.end());
+                for (std::size_t i = 0; i < around.size(); ++i) {
+                    const double gap = (i + 1 < around.size() ? around[i + 1] : around[0] + 2 * M_PI) - around[i];
+                    right += std::abs(gap - M_PI / 2) <= M_PI / 12;
+                    ++angles;
+                }
+            }
             for (const EdgeId in : edges) {
                 if (!traced_class(city.edge_highway[static_cast<std::size_t>(in)])) continue;
                 const Vec2 before = leaving(city, in, static_cast<VertexId>(c));
@@ -222,6 +233,7 @@ private:
             }
         }
         pick_common_class(class_counts);
+        if (angles > 0) right_share_ = static_cast<double>(right) / static_cast<double>(angles);
     }
 
     void pick_common_class(const std::vector<std::size_t>& class_counts) {
@@ -290,8 +302,9 @@ private:
         double t = 0.0;
         Vec2 where = Vec2::Zero();
         EdgeId edge = -1;
+        std::size_t edge_piece = 0;
     };
-    std::optional<Hit> first_hit(const std::vector<Vec2>& line, VertexId from, VertexId to = -1) const {
+    std::optional<Hit> first_hit(const std::vector<Vec2>& line, VertexId from, VertexId to = -1, EdgeId ignore = -1) const {
         for (std::size_t k = 0; k + 1 < line.size(); ++k) {
             const Vec2 a = line[k], b = line[k + 1];
             Box box(point(a), point(a));
@@ -299,6 +312,7 @@ private:
             std::optional<Hit> best;
             for (auto it = segments_.qbegin(bgi::intersects(box)); it != segments_.qend(); ++it) {
                 const EdgeId e = it->second;
+                if (e == ignore) continue;
                 const auto [u, v] = g_.edges[static_cast<std::size_t>(e)];
                 const bool at_from = u == from || v == from;
                 const bool at_to = to >= 0 && (u == to || v == to);
@@ -308,11 +322,11 @@ private:
                     if (m) {
                         // Streets at this street's own ends meet it there, which is no crossing.
                         if ((at_from && k == 0 && m->first < 1e-6) || (at_to && k + 2 == line.size() && m->first > 1 - 1e-6)) continue;
-                        if (!best || m->first < best->t) best = Hit{k, m->first, a + m->first * (b - a), e};
+                        if (!best || m->first < best->t) best = Hit{k, m->first, a + m->first * (b - a), e, i};
                     } else if (segments_meet(a, b, q[i], q[i + 1])) {
                         // Overlapping (parallel) pieces: counted as meeting at this piece's start.
                         if ((at_from && k == 0) || (at_to && k + 2 == line.size())) continue;
-                        if (!best) best = Hit{k, 0.0, a, e};
+                        if (!best) best = Hit{k, 0.0, a, e, i};
                     }
                 }
             }
@@ -506,7 +520,7 @@ private:
                 total += length;
             }
         }
-        if (total < 2.0 * typical_ || std::hypot(c, sn) / total < 0.6) return std::nullopt;
+        if (total < 2.0 * typical_ || std::hypot(c, sn) / total < 0.5) return std::nullopt;
         return std::atan2(sn, c) / 4.0;
     }
 
@@ -558,6 +572,26 @@ private:
         return !closes_small_block(from, to);
     }
 
+    // A street ending on a street nearly square to it meets it square (a T-junction), and one
+    // at a slant does so as often as the city's junctions are right angles: its last point moves
+    // to the foot of the perpendicular from the point before it, where that stays on the street
+    // near by and crosses nothing.
+    void squared(const Street& s, std::vector<Vec2>& line, EdgeId e, std::size_t piece) {
+        const Vec2 from_point = line[line.size() - 2];
+        const Vec2* q = g_.geometry_begin(e);
+        const Vec2 d = q[piece + 1] - q[piece];
+        const double slant = std::abs(std::cos(angle_of(line.back() - from_point) - angle_of(d))); // 0: square
+        if (slant > std::sin(M_PI / 5) && !std::bernoulli_distribution(right_share_)(rng_)) return;
+        const double t = (from_point - q[piece]).dot(d) / std::max(d.squaredNorm(), 1e-300);
+        if (t < 0.05 || t > 0.95) return;
+        const Vec2 foot = q[piece] + t * d;
+        if ((foot - line.back()).norm() > 0.5 * typical_ || (foot - from_point).norm() < 0.2 * typical_) return;
+        std::vector<Vec2> moved = line;
+        moved.back() = foot;
+        if (first_hit(moved, s.from, -1, e)) return;
+        line = std::move(moved);
+    }
+
     enum class Settled { joined, dropped, open };
 
     // The street along `line` joined to what it meets (a crossing, a junction or a street near
@@ -583,13 +617,15 @@ private:
                 }
             }
             if (a == s.from || b == s.from) return Settled::dropped; // it would come back to where it started
-            const Vec2 along = g_.positions[static_cast<std::size_t>(b)] - g_.positions[static_cast<std::size_t>(a)];
+            squared(s, cut, hit->edge, hit->edge_piece);
+            const Vec2* q = g_.geometry_begin(hit->edge);
+            const Vec2 along = q[hit->edge_piece + 1] - q[hit->edge_piece];
             const Vec2 arrive = cut[cut.size() - 2] - cut.back();
             const double crossing_angle = std::abs(std::sin(angle_of(arrive) - angle_of(along)));
             if (crossing_angle < std::sin(min_angle_)) return Settled::dropped;
-            if (!inside(region_, hit->where) || static_cast<std::size_t>(hit->edge) < fixed_edges_) return Settled::dropped;
-            if (s_.min_block_m2 > 0 && splits_small_block(s.from, hit->edge, hit->where)) return Settled::dropped;
-            const VertexId x = split(hit->edge, hit->where);
+            if (!inside(region_, cut.back()) || static_cast<std::size_t>(hit->edge) < fixed_edges_) return Settled::dropped;
+            if (s_.min_block_m2 > 0 && splits_small_block(s.from, hit->edge, cut.back())) return Settled::dropped;
+            const VertexId x = split(hit->edge, cut.back());
             add_street(s.from, x, cut, s.highway);
             ++report_.t_junctions;
             return Settled::joined;
@@ -619,8 +655,10 @@ private:
         }
         // A street near its end: it meets it.
         if (const auto near = nearest_street(end, snap, s.from)) {
-            const auto [e, x] = *near;
-            const std::vector<Vec2> to_x = warped(line, x);
+            const EdgeId e = near->edge;
+            std::vector<Vec2> to_x = warped(line, near->where);
+            squared(s, to_x, e, near->piece);
+            const Vec2 x = to_x.back();
             const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
             const bool room = (g_.positions[static_cast<std::size_t>(a)] - x).norm() > snap && (g_.positions[static_cast<std::size_t>(b)] - x).norm() > snap;
             if (room && inside(region_, x) && static_cast<std::size_t>(e) >= fixed_edges_ && !first_hit(to_x, s.from) && !(s_.min_block_m2 > 0 && splits_small_block(s.from, e, x))) {
@@ -730,8 +768,13 @@ private:
         return best;
     }
 
-    std::optional<std::pair<EdgeId, Vec2>> nearest_street(const Vec2& p, double within, VertexId besides) const {
-        std::optional<std::pair<EdgeId, Vec2>> best;
+    struct Near {
+        EdgeId edge = -1;
+        Vec2 where = Vec2::Zero();
+        std::size_t piece = 0;
+    };
+    std::optional<Near> nearest_street(const Vec2& p, double within, VertexId besides) const {
+        std::optional<Near> best;
         double best_d = within;
         const Box window(Point(p.x() - within, p.y() - within), Point(p.x() + within, p.y() + within));
         for (auto it = segments_.qbegin(bgi::intersects(window)); it != segments_.qend(); ++it) {
@@ -744,7 +787,7 @@ private:
                 const double t = std::clamp((p - q[i]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
                 const Vec2 x = q[i] + t * d;
                 const double dist = (x - p).norm();
-                if (dist < best_d) best = std::pair{e, x}, best_d = dist;
+                if (dist < best_d) best = Near{e, x, i}, best_d = dist;
             }
         }
         return best;
@@ -783,12 +826,13 @@ private:
     TracingReport report_;
     std::vector<Example> main_examples_, other_examples_;
     std::size_t fixed_edges_ = 0; // the streets there before: never split (their ids and ends are kept)
+    double right_share_ = 0.5; // of the examples' junctions: angles between neighbouring streets within 15 degrees of 90
     HighwayClass common_class_ = HighwayClass::residential; // of the examples' streets: that of a new side street
     double typical_ = 50.0; // median street of the examples, end to end
     double long_ = 100.0;   // their 90th percentile
     double expected_streets_ = 1.0;
     const double min_angle_ = M_PI / 6;
-    const double grid_tolerance_ = M_PI / 12;
+    const double grid_tolerance_ = M_PI / 9;
     std::vector<std::vector<EdgeId>> adjacency_;
     bgi::rtree<PointEntry, bgi::rstar<16>> vertices_;
     bgi::rtree<SegmentEntry, bgi::rstar<16>> segments_;
