@@ -12,6 +12,8 @@ Writes
                              plaza (the paper's Figure 1)
   synthesis_stitch.png       Barcelona's Eixample and the Marais in Paris side by side, and the gap
                              between them grown with the grammar of each (the paper's Figure 18)
+  synthesis_infill.png       the infill test (scripts/bench_infill.py): a hole cut out of three
+                             cities, its real streets beside the ones grown back (seed 1)
 """
 import argparse
 import os
@@ -51,6 +53,14 @@ def crop(graph, lo, hi, shift=(0.0, 0.0)):
 def draw(ax, graph, first_edge=0, last_edge=None, colour="#222222", lw=0.8):
     edges = graph.edges[first_edge:last_edge]
     ax.add_collection(LineCollection(graph.positions[edges], colors=colour, linewidths=lw))
+
+
+def draw_lines(ax, graph, first_edge=0, last_edge=None, colour="#222222", lw=0.8):
+    """The edges' polylines (curved streets drawn curved)."""
+    offsets, points = graph.edge_geometry()
+    last = graph.edge_count if last_edge is None else last_edge
+    lines = [points[offsets[e]:offsets[e + 1]] for e in range(first_edge, last)]
+    ax.add_collection(LineCollection(lines, colors=colour, linewidths=lw))
 
 
 def frame(ax, lo, hi, title):
@@ -119,9 +129,9 @@ def stitch_figure(out):
         edges = step3.edges[first:last]
         ax.add_collection(LineCollection(step3.positions[edges[~main]], colors=colour, linewidths=0.8))
         ax.add_collection(LineCollection(step3.positions[edges[main]], colors=colour, linewidths=2.0))
-    draw(ax, step3, both.edge_count, step1.edge_count, "#e59866", lw=1.4)
-    draw(ax, step3, step1.edge_count, step2.edge_count, "#7fb3d5", lw=1.4)
-    draw(ax, step3, step2.edge_count, None, "#7fb3d5", lw=1.4)  # (second halves of split streets)
+    draw_lines(ax, step3, both.edge_count, step1.edge_count, "#e59866", lw=1.4)
+    draw_lines(ax, step3, step1.edge_count, step2.edge_count, "#7fb3d5", lw=1.4)
+    draw_lines(ax, step3, step2.edge_count, None, "#7fb3d5", lw=1.4)  # (second halves of split streets)
     changed = np.flatnonzero(step3.edge_highway[both.edge_count:step2.edge_count] !=
                              step2.edge_highway[both.edge_count:]) + both.edge_count
     connectors = np.arange(step2.edge_count, step3.edge_count)
@@ -129,12 +139,53 @@ def stitch_figure(out):
     ax.add_collection(LineCollection(step3.positions[step3.edges[continued]], colors="#1e8449", linewidths=2.6))
     for gap in (gap_west, gap_east):
         ax.plot(*np.vstack([gap, gap[:1]]).T, color="#999999", ls="--", lw=0.8)
-    frame(ax, (-650, -650), (2650, 650), "Barcelona (red) and Paris (blue), the gap grown with the rules of each "
-          "({} and {} rules placed); main roads thick, continued across the gap in green ({} joined)".format(
-              r1["placements"], r2["placements"], hierarchy["routes"] + hierarchy["connectors"]))
+    frame(ax, (-650, -650), (2650, 650), "Barcelona (red) and Paris (blue), the gap grown from the streets of each "
+          "({} streets traced on, {} rules placed); main roads thick, continued across the gap in green ({} joined)".format(
+              r1["traced_streets"] + r2["traced_streets"], r1["placements"] + r2["placements"],
+              hierarchy["routes"] + hierarchy["connectors"]))
     fig.text(0.99, 0.01, CREDIT, ha="right", fontsize=7, color="#666666")
     fig.tight_layout()
     fig.savefig(out, dpi=110, metadata=PNG_METADATA)
+    plt.close(fig)
+
+
+def infill_figure(out):
+    sys.path.insert(0, str(REPO / "scripts"))
+    import bench_infill
+
+    cities = [("paris_marais.osm.pbf", "the Marais, Paris"), ("columbus_oh.osm.pbf", "Columbus, Ohio"),
+              ("monaco.osm.pbf", "Monaco")]
+    fig, axes = plt.subplots(len(cities), 2, figsize=(11, 5.6 * len(cities)))
+    for row, (name, title) in zip(axes, cities):
+        graph = ggg.read_graph(str(OSM / name))
+        p = graph.positions
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        side = 0.3 * min(hi - lo)
+        centre = np.median(p, axis=0)
+        a, b = centre - side / 2, centre + side / 2
+        in_hole = bench_infill.inside(p, a[0], a[1], b[0], b[1])
+        rest, _ = bench_infill.subgraph(graph, ~in_hole)
+        grammar, _ = ggg.learn(rest)
+        corners = np.array([[a[0], a[1]], [b[0], a[1]], [b[0], b[1]], [a[0], b[1]]])
+        grown, report = ggg.grow_region(rest, grammar, corners, seed=1)
+        edges = np.asarray(graph.edges)
+        real = in_hole[edges[:, 0]] | in_hole[edges[:, 1]]
+        view_lo, view_hi = a - 0.25 * side, b + 0.25 * side
+        offsets, points = graph.edge_geometry()
+        row[0].add_collection(LineCollection([points[offsets[e]:offsets[e + 1]] for e in np.flatnonzero(~real)],
+                                             colors="#aaaaaa", linewidths=0.6))
+        row[0].add_collection(LineCollection([points[offsets[e]:offsets[e + 1]] for e in np.flatnonzero(real)],
+                                             colors="#222222", linewidths=0.9))
+        draw_lines(row[1], grown, 0, rest.edge_count, "#aaaaaa", 0.6)
+        draw_lines(row[1], grown, rest.edge_count, None, "#c0392b", 0.9)
+        for ax in row:
+            ax.plot(*np.vstack([corners, corners[:1]]).T, color="#2471a3", ls="--", lw=0.8)
+        frame(row[0], view_lo, view_hi, "{}: the real streets of the hole ({:,})".format(title, int(real.sum())))
+        frame(row[1], view_lo, view_hi, "grown back from the rest ({:,} streets, {:,} traced on from the border)".format(
+            grown.edge_count - rest.edge_count, report["traced_seeds"]))
+    fig.text(0.99, 0.005, CREDIT, ha="right", fontsize=7, color="#666666")
+    fig.tight_layout()
+    fig.savefig(out, dpi=90, metadata=PNG_METADATA)
     plt.close(fig)
 
 
@@ -148,7 +199,8 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     replacement_figure(out / "synthesis_replacement.png")
     stitch_figure(out / "synthesis_stitch.png")
-    print("wrote", out / "synthesis_replacement.png", "and", out / "synthesis_stitch.png")
+    infill_figure(out / "synthesis_infill.png")
+    print("wrote", out / "synthesis_replacement.png", out / "synthesis_stitch.png", "and", out / "synthesis_infill.png")
 
 
 if __name__ == "__main__":

@@ -832,7 +832,7 @@ private:
     double long_ = 100.0;   // their 90th percentile
     double expected_streets_ = 1.0;
     const double min_angle_ = M_PI / 6;
-    const double grid_tolerance_ = M_PI / 9;
+    const double grid_tolerance_ = M_PI / 4;
     std::vector<std::vector<EdgeId>> adjacency_;
     bgi::rtree<PointEntry, bgi::rstar<16>> vertices_;
     bgi::rtree<SegmentEntry, bgi::rstar<16>> segments_;
