@@ -52,3 +52,73 @@ def test_the_progress_is_clamped():
     assert job(-1, "under") is True and job.fraction == 0.0
     job.cancel()
     assert job(0.5, "cancelled") is False
+
+
+class FakeLibrary:
+    """What a StepsJob needs of ggg: its Cancelled."""
+
+    class Cancelled(Exception):
+        pass
+
+
+class Recording(jobs.StepsJob):
+    """A StepsJob that keeps every progress report."""
+
+    def __init__(self, work):
+        super().__init__(FakeLibrary, work)
+        self.seen = []
+
+    def __call__(self, fraction, message):
+        self.seen.append((round(fraction, 6), message))
+        return super().__call__(fraction, message)
+
+
+def test_steps_share_the_progress_bar():
+    def work(job):
+        job.step(0.0, "reading")
+        progress = job.stage(0.2, 0.6, "growing")
+        for fraction, message in ((0.5, "placing"), (0.25, "placing"), (1.0, "done")):
+            assert progress(fraction, message)
+        job.step(1.0, "done")
+        return "grown"
+
+    job = Recording(work)
+    job.start()
+    job.join()
+    assert job.result == "grown" and job.error is None
+    # (0.25 after 0.5: the bar stays where it was.)
+    assert job.seen == [(0.0, "reading"), (0.2, "growing: starting"), (0.4, "growing: placing"),
+                        (0.4, "growing: placing"), (0.6, "growing: done"), (1.0, "done")]
+
+
+def test_a_cancelled_steps_job_stops_at_the_next_step():
+    gate = threading.Event()
+    reached = []
+
+    def work(job):
+        job.step(0.1, "first")
+        gate.wait(10.0)
+        reached.append("after the wait")
+        job.step(0.5, "second")
+        reached.append("after the second step")
+        return "done"
+
+    job = jobs.StepsJob(FakeLibrary, work)
+    job.start()
+    job.cancel()
+    gate.set()
+    job.join()
+    assert isinstance(job.error, FakeLibrary.Cancelled) and job.result is None
+    assert reached == ["after the wait"]
+
+
+def test_a_cancelled_stage_tells_the_library_to_stop():
+    def work(job):
+        progress = job.stage(0.0, 1.0)
+        job.cancel()
+        return progress(0.5, "placing")
+
+    job = jobs.StepsJob(FakeLibrary, work)
+    job.start()
+    job.join()
+    assert job.result is False and job.cancelled

@@ -1,9 +1,12 @@
 """Growing into a region with ggg.grow_region: the rules placed by hand (the graph's
-nonterminals) that go first, which of them fit, and the progress of the growth."""
+nonterminals) that go first, which of them fit, the progress of the growth, and the whole of
+Grow into Region without Blender (``grow_into_region``, run in a worker thread)."""
 
 import math
 
 import numpy as np
+
+from .columns import appended, induced_subgraph
 
 
 class ThrottledProgress:
@@ -65,3 +68,47 @@ def placed_rules(columns, parsed, chosen=None):
         vertices.append(vertex)
         placements.append((symbol, x, y, scale, math.degrees(math.atan2(b, a))))
     return vertices, placements
+
+
+class Grown:
+    """What Grow into Region computed (``grow_into_region``): the ggg.grow_region
+    ``report``, the mesh vertex ids of the placed rules that were grown (``used``), and,
+    when something grew, the new graph ``result`` with each of its vertices' ids in the old
+    graph (``source``, -1 for a new one); else ``result`` is None."""
+
+    def __init__(self, report, used, result=None, source=None):
+        self.report = report
+        self.used = used
+        self.result = result
+        self.source = source
+
+
+def grow_into_region(job, ggg, old, parsed, polygon, candidates, placements, seed, max_placements, max_vertices,
+                     patience):
+    """Grow into Region on the GraphColumns ``old`` (read from the road graph object) with the
+    grammar ``parsed``, without Blender: the streets (the nonterminals left out) are the base,
+    the ``placements`` of the nonterminals ``candidates`` that fit go first; a Grown.
+
+    ``job`` is the core.jobs.StepsJob it runs in (its progress and cancelling); raises
+    ggg.Error (ggg.Cancelled once the user cancelled)."""
+    job.step(0.0, "reading the graph")
+    graph = old.graph(ggg)
+    # The streets grow; the nonterminals are left out (growth would take them for street
+    # vertices), placed first when they are used.
+    streets = old.symbols == 0
+    base, base_ids, base_edge_ids = induced_subgraph(ggg, graph, streets)
+    job.step(0.02, "fitting the placed rules")
+    fits = placements_that_fit(ggg, base, parsed, polygon, placements)
+    used = [vertex for vertex, fit in zip(candidates, fits) if fit]
+    grown, report = ggg.grow_region(
+        base, parsed, polygon, seed=seed, max_placements=max_placements, max_vertices=max_vertices,
+        patience=patience, placements=[p for p, fit in zip(placements, fits) if fit],
+        progress=job.stage(0.05, 0.95))
+    if report["added_vertices"] == 0:
+        return Grown(report, used)
+    job.step(0.95, "joining the new streets to the graph")
+    keep = np.ones(len(old.positions), dtype=bool)
+    keep[np.asarray(used, dtype=np.int64)] = False
+    result, source = appended(ggg, graph, keep, grown, base_ids, len(base_edge_ids))
+    job.step(1.0, "done")
+    return Grown(report, used, result, source)

@@ -1,4 +1,5 @@
-"""Long native calls (Analyze, Learn) in a worker thread.
+"""Long native calls (Analyze, Learn, Grow into Region, Stitch Cities, Build City) in a
+worker thread.
 
 The native functions release the GIL; the thread touches no Blender data: its progress
 callback (``NativeJob.__call__``) only records the fraction and message and returns False
@@ -102,3 +103,50 @@ class LearningJob(NativeJob):
 
     def _call(self, ggg, graph, options):
         return ggg.learn(graph, progress=self, **options)
+
+
+class StepsJob(NativeJob):
+    """Several native calls, and the bpy-free work between them, in a worker thread: the
+    function ``work(job)`` (which touches no Blender data) returns the result.
+
+    Each native call gets its share of the progress bar from ``stage``; ``check`` between
+    the calls stops the work once the user cancelled, as the library does (raising
+    ``ggg.Cancelled``)."""
+
+    thread_name = "road_grammar steps"
+
+    def __init__(self, ggg, work, thread_name=None):
+        super().__init__(ggg, None, None)
+        self._work = work
+        if thread_name is not None:
+            self.thread_name = thread_name
+
+    def _call(self, ggg, graph, options):
+        return self._work(self)
+
+    def stage(self, start, end, label=""):
+        """The progress callback of one native call whose progress fills [start, end] of the
+        whole; its messages are prefixed with ``label``."""
+        self.check()
+        span = end - start
+        prefix = label + ": " if label else ""
+        highest = [0.0]
+
+        def progress(fraction, message):
+            # (The bar does not go back when the library starts a phase over.)
+            highest[0] = max(highest[0], min(max(float(fraction), 0.0), 1.0))
+            return self(start + span * highest[0], prefix + str(message))
+
+        progress(0.0, "starting")
+        return progress
+
+    def step(self, fraction, message):
+        """A step of the work outside the library (the progress of the whole); stops once the
+        user cancelled."""
+        self(fraction, message)
+        self.check()
+
+    def check(self):
+        """Raise ggg.Cancelled once the user cancelled."""
+        if self.cancelled:
+            raise self._ggg.Cancelled("cancelled")

@@ -1,8 +1,17 @@
 """Operators of the 3-D city: build the city of a road graph, a camera fly-through along its
 roads, and rendering (a still or the fly-through as an MP4); their scene settings are
-``scene.road_city`` (properties.city, shown in the sidebar's City panel)."""
+``scene.road_city`` (properties.city, shown in the sidebar's City panel).
+
+Build City runs as a job (operators.jobs.ModalJobOperator): the graph is read on the main
+thread, its ground plan (ggg.city_layout and the building heights, core.city.Plan) is made
+in a worker thread, modal from the UI (progress in the status bar, Esc cancels), waited for
+from scripts; the meshes are made on the main thread when it has finished, so a cancelled
+or failed run leaves the scene as it was. Rendering from the UI is Blender's own render job
+(its window shows the progress, Esc stops it); the fly-through is quick and runs at once.
+"""
 
 import os
+from types import SimpleNamespace
 
 import bmesh
 import bpy
@@ -12,14 +21,16 @@ from bpy.types import Operator
 
 from ..core import flythrough, native
 from ..core.city import CityError, Plan, road_widths
+from ..core.jobs import StepsJob
 from ..core.names import CITY_PART_KEY
 from ..core.polylines import complete_polylines
 from ..data import graph_edit
 from ..data import mesh as mesh_data
-from ..data.roads import Progress
 from ..display import city
 from ..properties.city import (ENGINE_ITEMS, fly_properties, seed_property, sidewalk_property, sun_azimuth_property,
                                sun_elevation_property)
+from .jobs import ModalJobOperator
+from .region import changed_since, read_columns
 
 FLY_PART = "flythrough"
 FLY_PATH_PART = "flythrough path"
@@ -37,8 +48,24 @@ def _report_error(op, message):
     return {'CANCELLED'}
 
 
-class ROADS_OT_build_city(Operator):
-    """Build a 3-D city on the active road graph: road surfaces, blocks with kerbs and sidewalks, yards, buildings, ground, sun and sky (replaces this graph's earlier city)"""
+# Cities being built in the UI: graph object name -> StepsJob (for the panel, and so that
+# one city is not built twice at once).
+running = {}
+
+
+def plan_city(job, ggg, columns, settings):
+    """The Plan of the city of the GraphColumns ``columns`` (worker thread, no Blender data);
+    raises ggg.Error or CityError (ggg.Cancelled once the user cancelled)."""
+    job.step(0.0, "reading the graph")
+    graph = columns.graph(ggg)
+    widths = road_widths(columns, ggg, graph)
+    plan = Plan(ggg, graph, widths, settings, progress=job.stage(0.02, 1.0))
+    job.step(1.0, "done")
+    return plan
+
+
+class ROADS_OT_build_city(ModalJobOperator, Operator):
+    """Build a 3-D city on the active road graph: road surfaces, blocks with kerbs and sidewalks, yards, buildings, ground, sun and sky (replaces this graph's earlier city); Esc cancels"""
 
     bl_idname = "roads.build_city"
     bl_label = "Build City"
@@ -50,26 +77,57 @@ class ROADS_OT_build_city(Operator):
     sun_azimuth: sun_azimuth_property()
 
     _FROM_SETTINGS = ("seed", "sidewalk_m", "sun_elevation", "sun_azimuth")
+    _running = running
+    _doing = "Building the city of"
+    _noun = "the city"
+    _progress_label = "Building city"
+    _subject = "Building the city of {}"
+    _cannot = "Cannot build the city of {}"
+    _result_noun = "the city"
+    _changed = "{} changed while its city was planned; build it again"
 
-    def execute(self, context):
+    @classmethod
+    def poll(cls, context):
+        obj = city.city_graph(context)
+        return obj is None or obj.name not in cls._running
+
+    def _settings(self, context):
+        return context.scene.road_city
+
+    def _start(self, context):
+        """Read the road graph (main thread) and start planning its city; False after an
+        ERROR report."""
         graph_obj = city.city_graph(context)
         if graph_obj is None:
-            return _report_error(self, "No road graph is active: select a road graph (import OpenStreetMap roads "
-                                 "first)")
+            self.report({'ERROR'}, "No road graph is active: select a road graph (import OpenStreetMap roads first)")
+            return False
         ggg = native.load_or_report(self)
         if ggg is None:
-            return {'CANCELLED'}
-        if graph_obj.mode == 'EDIT':
-            graph_obj.update_from_editmode()
-        try:
-            columns = graph_edit.MeshGraph(graph_obj)
-            graph = columns.graph(ggg)
-            widths = road_widths(columns, ggg, graph)
-            with Progress(context, read_share=1.0, label="Building city") as progress:
-                plan = Plan(ggg, graph, widths, self, progress=progress)
-        except (ggg.Error, CityError) as ex:
-            return _report_error(self, "{}: {}".format(graph_obj.name, ex))
-        collection = city.build(context, graph_obj, plan, self)
+            return False
+        if graph_obj.name in running:
+            self.report({'ERROR'}, "The city of {} is being built already".format(graph_obj.name))
+            return False
+        columns, self._topology = read_columns(context, graph_obj)
+        settings = SimpleNamespace(seed=self.seed, sidewalk_m=self.sidewalk_m)
+        self._ggg, self._object_name = ggg, graph_obj.name
+        self._job = StepsJob(ggg, lambda job: plan_city(job, ggg, columns, settings), "road_grammar city")
+        self._job.start()
+        return True
+
+    def _report_error(self, error):
+        if isinstance(error, (self._ggg.Error, CityError)):
+            self.report({'ERROR'}, "{}: {}".format(self._object_name, error))
+        else:
+            super()._report_error(error)
+
+    def _gone(self, context):
+        if changed_since(bpy.data.objects.get(self._object_name), self._topology):
+            return self._changed.format(self._object_name)
+        return None
+
+    def _keep(self, context, graph_obj, _topology):
+        """Make the city's meshes from the finished plan (main thread) and report."""
+        collection = city.build(context, graph_obj, self._job.result, self)
         self.report({'INFO'}, "Built {}: {:,} blocks, {:,} buildings, {:,} road pieces".format(
             collection.name, collection["blocks"], collection["buildings"], collection["road_pieces"]))
         return {'FINISHED'}

@@ -1,5 +1,5 @@
-"""The modal operator that runs a long native call (Analyze, Learn) from the UI, in a worker
-thread (core.jobs.NativeJob).
+"""The modal operator that runs a long native call (Analyze, Learn, Grow into Region, Stitch
+Cities, Build City) from the UI, in a worker thread (core.jobs.NativeJob).
 
 The native functions release the GIL; the thread touches no Blender data: its progress
 callback (``NativeJob.__call__``) only records the fraction and message and returns False
@@ -39,10 +39,11 @@ class ModalJobOperator:
     * ``_running``: the dict object name -> job of its kind (for the panel, and for poll:
       one object is not worked on twice at once);
     * ``_settings(context)``: the property group whose values ``_FROM_SETTINGS`` are taken
-      when invoked (for those not set by the caller);
+      when invoked (for those not set by the caller): property names, or a dict property
+      name -> setting name;
     * ``_start(context)``: read the graph (main thread), set ``_ggg``, ``_object_name``,
-      ``_topology`` (the analysis.MeshTopology read) and start ``_job``; False after an
-      ERROR report;
+      ``_topology`` (the analysis.MeshTopology read, or anything with the ``checksum`` of
+      the graph's vertex ids it gives) and start ``_job``; False after an ERROR report;
     * ``_keep(context, obj, topology)``: store the result of the finished job on the road
       graph ``obj`` (main thread; ``_finish`` has checked that the job succeeded and that
       ``obj``, read again as ``topology``, has not changed), report, and return the
@@ -53,6 +54,10 @@ class ModalJobOperator:
       ``_subject`` ("The analysis of {}" was cancelled, failed), ``_cannot`` ("Cannot
       analyse {}": the library's error), ``_result_noun`` ("the analysis" is not kept) and
       ``_changed`` ("{} changed during the analysis; analyse it again").
+
+    It may override ``_report_error(error)`` (the job failed: say why) and
+    ``_gone(context)`` (a message when something else the result depends on is gone or has
+    changed meanwhile, else None).
     """
 
     _running = {}
@@ -83,9 +88,11 @@ class ModalJobOperator:
 
     def invoke(self, context, event):
         settings = self._settings(context)
-        for name in self._FROM_SETTINGS:
+        names = self._FROM_SETTINGS
+        pairs = names.items() if isinstance(names, dict) else ((name, name) for name in names)
+        for name, setting in pairs:
             if not self.properties.is_property_set(name):
-                setattr(self, name, getattr(settings, name))
+                setattr(self, name, getattr(settings, setting))
         if bpy.app.background or context.window is None:
             return self.execute(context)
         if not self._start(context):
@@ -180,11 +187,7 @@ class ModalJobOperator:
             self.report({'WARNING'}, "{} was cancelled; nothing changed".format(self._subject.format(name)))
             return {'CANCELLED'}
         if job.error is not None:
-            if isinstance(job.error, ggg.Error):
-                self.report({'ERROR'}, "{}: {}".format(self._cannot.format(name), job.error))
-            else:
-                self.report({'ERROR'}, "{} failed: {}: {}".format(
-                    self._subject.format(name), type(job.error).__name__, job.error))
+            self._report_error(job.error)
             return {'CANCELLED'}
         obj = bpy.data.objects.get(name)
         if obj is None or obj.type != 'MESH':
@@ -194,7 +197,24 @@ class ModalJobOperator:
         if topology.checksum != self._topology.checksum:
             self.report({'ERROR'}, self._changed.format(name))
             return {'CANCELLED'}
+        problem = self._gone(context)
+        if problem is not None:
+            self.report({'ERROR'}, problem)
+            return {'CANCELLED'}
         return self._keep(context, obj, topology)
+
+    def _report_error(self, error):
+        """Report why the job failed (main thread)."""
+        name = self._object_name
+        if isinstance(error, self._ggg.Error):
+            self.report({'ERROR'}, "{}: {}".format(self._cannot.format(name), error))
+        else:
+            self.report({'ERROR'}, "{} failed: {}: {}".format(self._subject.format(name), type(error).__name__, error))
+
+    def _gone(self, context):
+        """A message when something besides the road graph that the result depends on is gone
+        or has changed since the start, else None."""
+        return None
 
 
 def stop_all():

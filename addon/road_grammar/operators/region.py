@@ -1,18 +1,33 @@
 """Growing streets into a region with a grammar's rules (ggg.grow_region): Grow into Region,
 and what it shares with Stitch Cities (operators.stitch): the region object and its polygon,
-and the settings taken from the Grammar panel."""
+the settings taken from the Grammar panel, and reading a road graph for a job.
+
+Grow into Region runs as a job (operators.jobs.ModalJobOperator): the graph, the grammar and
+the region are read on the main thread, the growth (core.growth.grow_into_region) runs in a
+worker thread, modal from the UI (progress in the status bar, Esc cancels), waited for from
+scripts; the mesh is written when it has finished, so a cancelled or failed growth leaves
+the scene as it was.
+"""
+
+from types import SimpleNamespace
 
 import bpy
-import numpy as np
 from bpy.props import StringProperty
 from bpy.types import Operator
 
-from ..core.columns import appended, induced_subgraph
-from ..core.growth import ThrottledProgress, placed_rules, placements_that_fit
+from ..core.growth import grow_into_region, placed_rules
+from ..core.jobs import StepsJob
 from ..core.text import plural, rejections, tries
+from ..core.topology import positions_digest, topology_checksum
 from ..data import graph_edit, region, roads
+from ..data import mesh as mesh_data
 from ..properties import grammar
 from .common import class_widths, grammar_or_report
+from .jobs import ModalJobOperator
+
+# Growths running in the UI: object name -> StepsJob (for the panel, and so that one graph
+# does not grow twice at once).
+running = {}
 
 
 def region_object(op, context, graph_objs):
@@ -58,8 +73,9 @@ def region_polygon(op, context, region_obj, graph_obj, cannot):
 
 class GrowSettings:
     """Operators that grow with the Grammar panel's settings: a property the caller does not
-    set (F3, the panel's button) takes the panel's value; the redo panel shows the objects
-    to pick (``_OBJECTS``) and the settings."""
+    set (F3, the panel's button) takes the panel's value (``_FROM_SETTINGS``: property name
+    -> setting name, see jobs.ModalJobOperator.invoke); the redo panel shows the objects to
+    pick (``_OBJECTS``) and the settings."""
 
     _OBJECTS = ("region",)
 
@@ -72,16 +88,36 @@ class GrowSettings:
         for name in self._FROM_SETTINGS:
             layout.prop(self, name)
 
-    def invoke(self, context, event):
-        settings = context.scene.road_grammar
-        for name, setting in self._FROM_SETTINGS.items():
-            if not self.properties.is_property_set(name):
-                setattr(self, name, getattr(settings, setting))
-        return self.execute(context)
+    def _settings(self, context):
+        return context.scene.road_grammar
 
 
-class ROADS_OT_grow_region(GrowSettings, Operator):
-    """Grow streets into a region (a closed curve or a mesh, seen from above) with the active grammar's rules, from the active road graph's streets that reach it"""
+def read_columns(context, obj):
+    """The MeshGraph of the road graph ``obj`` as the user sees it (in Edit Mode, the edited
+    mesh: Edit Mode is left for the reading), and what changed_since compares (the
+    checksum of its vertex ids, which jobs.ModalJobOperator checks when the job has finished,
+    and of its positions)."""
+    with graph_edit.object_mode(context, obj):
+        columns = graph_edit.MeshGraph(obj)
+    return columns, SimpleNamespace(checksum=topology_checksum(len(columns.positions), columns.edges),
+                                    digest=positions_digest(columns.positions))
+
+
+def changed_since(obj, topology):
+    """Whether the vertices of the road graph ``obj`` moved, or it lost or gained vertices or
+    edges, since ``topology`` (read_columns) was read."""
+    if obj is None or obj.type != 'MESH':
+        return True
+    if obj.mode == 'EDIT':
+        obj.update_from_editmode()
+    positions = mesh_data.positions_xy(obj.data)
+    edges = mesh_data.edge_vertices(obj.data)
+    return topology_checksum(len(positions), edges) != topology.checksum or \
+        positions_digest(positions) != topology.digest
+
+
+class ROADS_OT_grow_region(GrowSettings, ModalJobOperator, Operator):
+    """Grow streets into a region (a closed curve or a mesh, seen from above) with the active grammar's rules, from the active road graph's streets that reach it; Esc cancels"""
 
     bl_idname = "roads.grow_region"
     bl_label = "Grow into Region"
@@ -102,81 +138,106 @@ class ROADS_OT_grow_region(GrowSettings, Operator):
     _FROM_SETTINGS = {"seed": "region_seed", "max_placements": "region_max_placements",
                       "max_vertices": "region_max_vertices", "patience": "region_patience",
                       "use_placed_rules": "region_use_placed"}
+    _running = running
+    _doing = "Growing"
+    _noun = "the growth"
+    _subject = "Growing {}"
+    _cannot = "Cannot grow {}"
+    _result_noun = "what grew"
+    _changed = "{} changed while it grew; grow it again"
+    _progress_label = "Growing into a region"
+
+    # Set up by _start.
+    _region_name = ""
+    _parsed_name = ""
+    _old = None
+    _placed = ()
+    _loops = 1
 
     def _region_object(self, context, graph_obj):
         return region_object(self, context, (graph_obj,))
 
-    def execute(self, context):
+    # -- steps
+
+    def _start(self, context):
+        """Read the graph, the grammar and the region (main thread) and start the worker;
+        False after an ERROR report."""
         graph_obj = roads.road_graph_object(context.active_object)
         if graph_obj is None or graph_obj.type != 'MESH':
             self.report({'ERROR'}, "Select a road graph to grow into a region (import roads, add an axiom or place a "
                         "rule first)")
-            return {'CANCELLED'}
+            return False
         found = grammar_or_report(self, context)
         if found is None:
-            return {'CANCELLED'}
+            return False
         ggg, _text, parsed = found
         if not hasattr(ggg, "grow_region"):
             self.report({'ERROR'}, "The native module {} cannot grow into a region (it lacks grow_region); rebuild "
                         "it".format(getattr(ggg, "__file__", "ggg")))
-            return {'CANCELLED'}
+            return False
+        if graph_obj.name in running:
+            self.report({'ERROR'}, "{} is growing already".format(graph_obj.name))
+            return False
         region_obj = self._region_object(context, graph_obj)
         read = region_polygon(self, context, region_obj, graph_obj, "Cannot grow into")
         if read is None:
-            return {'CANCELLED'}
-        polygon, loops = read
+            return False
+        polygon, self._loops = read
         self.region = region_obj.name  # the redo panel grows into the same region
+        self._region_name = region_obj.name
+        self._progress_label = "Growing into {}".format(region_obj.name)
+        self._parsed_name = parsed.name
+        old, self._topology = read_columns(context, graph_obj)
+        candidates, placements = self._placements(old, parsed)
+        self._ggg, self._object_name, self._old = ggg, graph_obj.name, old
+        self._placed = placements
+        options = dict(seed=self.seed, max_placements=self.max_placements, max_vertices=self.max_vertices,
+                       patience=self.patience)
+        self._job = StepsJob(ggg, lambda job: grow_into_region(job, ggg, old, parsed, polygon, candidates,
+                                                               placements, **options), "road_grammar grow")
+        self._job.start()
+        return True
 
+    def _report_error(self, error):
+        if isinstance(error, self._ggg.Error):
+            hint = " (or turn off Use Placed Rules)" if self._placed and isinstance(error, self._ggg.UsageError) \
+                else ""
+            self.report({'ERROR'}, "Cannot grow {} into {}: {}{}".format(self._object_name, self._region_name,
+                                                                        error, hint))
+        else:
+            super()._report_error(error)
+
+    def _gone(self, context):
+        if self._region_name not in bpy.data.objects:
+            return "The region {} is gone; what grew is not kept".format(self._region_name)
+        if changed_since(bpy.data.objects.get(self._object_name), self._topology):
+            return self._changed.format(self._object_name)
+        return None
+
+    def _keep(self, context, graph_obj, _topology):
+        """Write what grew into the road graph (main thread) and report."""
+        grown, old = self._job.result, self._old
+        report, used = grown.report, grown.used
+        region_name, placements = self._region_name, self._placed
+        if grown.result is None:
+            self.report({'WARNING'}, self._nothing_message(graph_obj, region_name, old, report))
+            return {'CANCELLED'}
         with graph_edit.object_mode(context, graph_obj):
-            old = graph_edit.MeshGraph(graph_obj)
-            with roads.Progress(context, read_share=0.9, label="Growing into {}".format(region_obj.name)) \
-                    as progress:
-                try:
-                    graph = old.graph(ggg)
-                    # The streets grow; the nonterminals are left out (growth would take them
-                    # for street vertices), placed first when they are used.
-                    streets = old.symbols == 0
-                    base, base_ids, base_edge_ids = induced_subgraph(ggg, graph, streets)
-                    candidates, placements = self._placements(old, parsed)
-                    fits = placements_that_fit(ggg, base, parsed, polygon, placements)
-                    used = [vertex for vertex, fit in zip(candidates, fits) if fit]
-                    grown, report = ggg.grow_region(
-                        base, parsed, polygon, seed=self.seed, max_placements=self.max_placements,
-                        max_vertices=self.max_vertices, patience=self.patience,
-                        placements=[p for p, fit in zip(placements, fits) if fit],
-                        progress=ThrottledProgress(progress))
-                except ggg.Error as ex:
-                    hint = " (or turn off Use Placed Rules)" if placements and isinstance(ex, ggg.UsageError) else ""
-                    self.report({'ERROR'}, "Cannot grow {} into {}: {}{}".format(graph_obj.name, region_obj.name, ex,
-                                                                                hint))
-                    return {'CANCELLED'}
-                if report["added_vertices"] == 0:
-                    self.report({'WARNING'}, self._nothing_message(graph_obj, region_obj, old, report))
-                    return {'CANCELLED'}
-                progress.step(0.0, "updating the mesh")
-                keep = np.ones(len(old.positions), dtype=bool)
-                keep[np.asarray(used, dtype=np.int64)] = False
-                try:
-                    result, source = appended(ggg, graph, keep, grown, base_ids, len(base_edge_ids))
-                except ggg.Error as ex:
-                    self.report({'ERROR'}, "Cannot grow {} into {}: {}".format(graph_obj.name, region_obj.name, ex))
-                    return {'CANCELLED'}
-                replacement = graph_edit.Replacement(graph_obj, old, result, {"source_vertex": source},
-                                                     class_widths(context, ggg, result))
-                replacement.apply(context)
-                progress.step(1.0, "done")
+            replacement = graph_edit.Replacement(graph_obj, old, grown.result, {"source_vertex": grown.source},
+                                                 class_widths(context, self._ggg, grown.result))
+            replacement.apply(context)
 
-        if graph_obj.get("grammar") not in (None, parsed.name):
+        if graph_obj.get("grammar") not in (None, self._parsed_name):
             self.report({'WARNING'}, "{} was made with the grammar '{}', not '{}'".format(
-                graph_obj.name, graph_obj["grammar"], parsed.name))
-        if loops > 1:
-            self.report({'WARNING'}, "{} has {} outlines: grew into the largest".format(region_obj.name, loops))
+                graph_obj.name, graph_obj["grammar"], self._parsed_name))
+        if self._loops > 1:
+            self.report({'WARNING'}, "{} has {} outlines: grew into the largest".format(region_name, self._loops))
         left = len(placements) - len(used)
         if left:
             self.report({'WARNING'}, "{} did not fit into {} and {} left as {}".format(
-                plural(left, "placed rule"), region_obj.name, "is" if left == 1 else "are",
+                plural(left, "placed rule"), region_name, "is" if left == 1 else "are",
                 "it was" if left == 1 else "they were"))
-        message = self._summary(graph_obj, region_obj, report, len(used))
+        message = self._summary(graph_obj, region_name, report, len(used))
         self.report({'WARNING'} if report["stopped_by_budget"] else {'INFO'}, message)
         return {'FINISHED'}
 
@@ -188,13 +249,13 @@ class ROADS_OT_grow_region(GrowSettings, Operator):
             return [], []
         return placed_rules(old, parsed)
 
-    def _summary(self, graph_obj, region_obj, report, placed):
+    def _summary(self, graph_obj, region_name, report, placed):
         traced = ""
         if report.get("traced_streets"):
             traced = "{} traced on from {} at the border, ".format(
                 plural(report["traced_streets"], "street"), plural(report["traced_seeds"], "street"))
         parts = ["Grew {} into {}: {}{}, {}, {} ({} from the border".format(
-            graph_obj.name, region_obj.name, traced, plural(report["placements"], "rule"),
+            graph_obj.name, region_name, traced, plural(report["placements"], "rule"),
             plural(report["added_vertices"], "vertex"), plural(report["added_edges"], "street"),
             report["border_connections"])]
         if report["closing_edges"]:
@@ -217,12 +278,12 @@ class ROADS_OT_grow_region(GrowSettings, Operator):
                                                        self.seed))
         return "; ".join(parts)
 
-    def _nothing_message(self, graph_obj, region_obj, old, report):
+    def _nothing_message(self, graph_obj, region_name, old, report):
         if report["stopped_by_budget"] and report["placements"] == 0 and not report.get("traced_streets"):
             reason = "the graph has {:,} vertices, the budget is {:,}".format(len(old.positions), self.max_vertices)
         else:
             reason = "no rule fits there ({}: {})".format(tries(report["attempts"]), rejections(report))
-        return "Nothing grew in {} from {}: {}. The graph is unchanged.".format(region_obj.name, graph_obj.name, reason)
+        return "Nothing grew in {} from {}: {}. The graph is unchanged.".format(region_name, graph_obj.name, reason)
 
 
 classes = (ROADS_OT_grow_region,)

@@ -8,26 +8,36 @@ streets that reach the region, the first city's new ones among them, so that gro
 both sides meets, continues the main roads of both cities through the grown streets
 (ggg.continue_hierarchy), writes the result into the active object (graph_edit.Replacement, as
 Grow into Region does) and removes the other graph object with its surface and displays.
-Everything is computed before the first change: an error leaves the scene as it was.
+
+It runs as a job (operators.jobs.ModalJobOperator): the objects and grammars are read on
+the main thread, the stitch itself (core.stitching.stitch) runs in a worker thread, modal
+from the UI (progress in the status bar, Esc cancels), waited for from scripts. Everything
+is computed before the first change: an error or Esc leaves the scene as it was.
 """
 
+import bpy
 import numpy as np
 from bpy.props import StringProperty
 from bpy.types import Operator
 
 from ..core import native
-from ..core.columns import appended, induced_subgraph, joined
-from ..core.growth import ThrottledProgress, placed_rules, placements_that_fit
-from ..core.names import RULE_GRAMMAR, RULE_GRAMMARS_KEY
+from ..core.jobs import StepsJob
+from ..core.names import RULE_GRAMMARS_KEY
+from ..core.stitching import City, stitch
 from ..core.text import plural, rejections, tries
 from ..data import graph_edit, roads, texts
 from ..properties import grammar
 from .common import class_widths
-from .region import GrowSettings, region_object, region_polygon
+from .jobs import ModalJobOperator
+from .region import GrowSettings, changed_since, read_columns, region_object, region_polygon
+
+# Stitches running in the UI: active object name -> StepsJob (for the panel, and so that one
+# graph is not stitched twice at once).
+running = {}
 
 
-class ROADS_OT_stitch_cities(GrowSettings, Operator):
-    """Stitch two road graphs (the active one and one other selected): join the other into the active one and grow the region between them with the grammar of each"""
+class ROADS_OT_stitch_cities(GrowSettings, ModalJobOperator, Operator):
+    """Stitch two road graphs (the active one and one other selected): join the other into the active one and grow the region between them with the grammar of each; Esc cancels"""
 
     bl_idname = "roads.stitch_cities"
     bl_label = "Stitch Cities"
@@ -56,6 +66,20 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
                       "use_placed_rules": "region_use_placed"}
 
     _OBJECTS = ("other", "region")
+    _running = running
+    _doing = "Stitching"
+    _noun = "the stitch"
+    _subject = "Stitching {}"
+    _cannot = "Cannot stitch {}"
+    _result_noun = "the stitch"
+    _changed = "{} changed during the stitch; stitch again"
+    _progress_label = "Stitching"
+
+    # Set up by _start.
+    _names = ("", "", "")
+    _other_topology = None
+    _loops = 1
+    _without_second = False
 
     # --- what to stitch ------------------------------------------------------------------
 
@@ -101,190 +125,118 @@ class ROADS_OT_stitch_cities(GrowSettings, Operator):
             return None
         return first, second
 
-    def _placements(self, old, notes, text_name, parsed):
-        """(vertex ids of the joined graph, placements) of the nonterminals that come from
-        the grammar ``text_name`` and have a rule in it (with Use Placed Rules)."""
-        if not self.use_placed_rules or parsed is None:
-            return [], []
-        return placed_rules(old, parsed, [note == text_name for note in notes])
-
     # --- running -------------------------------------------------------------------------
 
-    def execute(self, context):
+    def _start(self, context):
+        """Read both cities, their grammars and the region (main thread) and start the worker;
+        False after an ERROR report."""
         ggg = native.load_or_report(self)
         if ggg is None:
-            return {'CANCELLED'}
+            return False
         cities = self._cities(context)
         if cities is None:
-            return {'CANCELLED'}
+            return False
         active, other = cities
+        if active.name in running:
+            self.report({'ERROR'}, "{} is being stitched already".format(active.name))
+            return False
         grammars = self._grammars(context, active, other)
         if grammars is None:
-            return {'CANCELLED'}
+            return False
         (text_a, parsed_a), second = grammars
         text_b, parsed_b = second if second is not None else (None, None)
         region_obj = region_object(self, context, (active, other))
         read = region_polygon(self, context, region_obj, active, "Cannot stitch into")
         if read is None:
-            return {'CANCELLED'}
-        polygon, loops = read
+            return False
+        polygon, self._loops = read
         # The redo panel stitches the same objects.
         self.region, self.other = region_obj.name, other.name
-        name_a, name_b = active.name, other.name
+        self._names = (active.name, other.name, region_obj.name)
+        self._without_second = second is None
+        self._progress_label = "Stitching {} and {}".format(active.name, other.name)
 
-        with graph_edit.object_mode(context, active):
-            outcome = self._stitch(context, ggg, active, other, region_obj, polygon, text_a, parsed_a, text_b,
-                                   parsed_b)
-        if outcome is None:
-            return {'CANCELLED'}
-        reports, left = outcome
-
-        if second is None:
-            self.report({'WARNING'}, "{} has no grammar (learn it first): the gap grew with {}'s rules only".format(
-                name_b, name_a))
-        if loops > 1:
-            self.report({'WARNING'}, "{} has {} outlines: grew into the largest".format(region_obj.name, loops))
-        if left:
-            self.report({'WARNING'}, "{} did not fit into {} and {} left as {}".format(
-                plural(left, "placed rule"), region_obj.name, "is" if left == 1 else "are",
-                "it was" if left == 1 else "they were"))
-        budget = any(report["stopped_by_budget"] for report in reports["passes"])
-        self.report({'WARNING'} if budget else {'INFO'}, self._summary(name_a, name_b, region_obj, reports))
-        return {'FINISHED'}
-
-    def _stitch(self, context, ggg, active, other, region_obj, polygon, text_a, parsed_a, text_b, parsed_b):
-        """Compute, then write; (counts, placed rules left) or None after a report."""
-        old_a, old_b = graph_edit.MeshGraph(active), graph_edit.MeshGraph(other)
-        n_a, n_b = len(old_a.positions), len(old_b.positions)
+        old_a, self._topology = read_columns(context, active)
+        old_b, self._other_topology = read_columns(context, other)
         matrix = np.array(active.matrix_world.inverted() @ other.matrix_world, dtype=np.float64)
         # Which grammar each nonterminal comes from: Place Rule's note, else its city's.
-        notes = graph_edit.noted_grammars(active, old_a, text_a.name) + \
-            graph_edit.noted_grammars(other, old_b, text_b.name if text_b is not None else "")
-        old = joined(ggg, old_a, old_b, matrix)
-        names = sorted({note for note, symbol in zip(notes, old.symbols.tolist()) if note and symbol > 0})
-        if names or RULE_GRAMMAR in old.point_attributes:
-            # The notes, renumbered for the joined graph's list of grammar names.
-            old.point_attributes[RULE_GRAMMAR] = ('INT', np.array(
-                [names.index(note) + 1 if note and symbol > 0 else 0
-                 for note, symbol in zip(notes, old.symbols.tolist())], dtype=np.int64))
+        name_b = text_b.name if text_b is not None else None
+        first = City(old_a, text_a.name, parsed_a, graph_edit.noted_grammars(active, old_a, text_a.name))
+        second_city = City(old_b, name_b, parsed_b, graph_edit.noted_grammars(other, old_b, name_b or ""))
+        options = dict(seed=self.seed, share=self.share, max_placements=self.max_placements,
+                       max_vertices=self.max_vertices, patience=self.patience,
+                       use_placed_rules=self.use_placed_rules)
+        self._ggg, self._object_name = ggg, active.name
+        self._job = StepsJob(ggg, lambda job: stitch(job, ggg, first, second_city, matrix, polygon, **options),
+                             "road_grammar stitch")
+        self._job.start()
+        return True
 
-        label = "Stitching {} and {}".format(active.name, other.name)
-        with roads.Progress(context, read_share=0.9, label=label) as progress:
-            passes = [(text_a, parsed_a, self.seed, parsed_b is not None and self.share < 1.0)]
-            if parsed_b is not None:
-                passes.append((text_b, parsed_b, self.seed + 1, False))
-            used, reports, first_placed, traced = [], [], None, None
-            left = 0
-            try:
-                graph = old.graph(ggg)
-                streets = old.symbols == 0
-                base, base_ids, base_edge_ids = induced_subgraph(ggg, graph, streets)
-                grown = base
-                # The rules placed by hand go first, each with its own grammar: the other
-                # city's before anything grows (patience 0: only them), the active city's
-                # at the start of its growth.
-                placed = {}
-                for text, parsed in ((text_b, parsed_b), (text_a, parsed_a)):
-                    if parsed is None or text.name in placed:
-                        continue
-                    candidates, placements = self._placements(old, notes, text.name, parsed)
-                    fits = placements_that_fit(ggg, grown, parsed, polygon, placements)
-                    used.extend(vertex for vertex, fit in zip(candidates, fits) if fit)
-                    placed[text.name] = [p for p, fit in zip(placements, fits) if fit]
-                    left += len(placements) - len(placed[text.name])
-                    if text is not text_a and placed[text.name]:
-                        grown, first_placed = ggg.grow_region(
-                            grown, parsed, polygon, seed=self.seed + 1, max_placements=len(placed[text.name]),
-                            max_vertices=self.max_vertices, patience=0, placements=placed[text.name],
-                            continue_hierarchy=False, trace_streets=False)
-                        placed[text.name] = []
-                # The streets of both cities that reach the gap are traced on into it first,
-                # after the junctions around it (patience 0: no rule yet); the grammars' rules
-                # then fill what is left.
-                grown, traced = ggg.grow_region(
-                    grown, parsed_a, polygon, seed=self.seed, patience=0, max_vertices=self.max_vertices,
-                    continue_hierarchy=False, progress=ThrottledProgress(progress))
-                for text, parsed, seed, shared in passes:
-                    fitting = placed.pop(text.name, [])
+    def _report_error(self, error):
+        name_a, name_b, region_name = self._names
+        if isinstance(error, self._ggg.Error):
+            hint = " (or turn off Use Placed Rules)" if isinstance(error, self._ggg.UsageError) and \
+                self.use_placed_rules else ""
+            self.report({'ERROR'}, "Cannot stitch {} and {} into {}: {}{}".format(name_a, name_b, region_name, error,
+                                                                                 hint))
+        else:
+            super()._report_error(error)
 
-                    def grow(max_placements):
-                        return ggg.grow_region(
-                            grown, parsed, polygon, seed=seed, max_placements=max_placements,
-                            max_vertices=self.max_vertices, patience=self.patience, placements=fitting,
-                            continue_hierarchy=False, trace_streets=False, progress=ThrottledProgress(progress))
+    def _gone(self, context):
+        name_a, name_b, region_name = self._names
+        if region_name not in bpy.data.objects:
+            return "The region {} is gone; the stitch is not kept".format(region_name)
+        if changed_since(bpy.data.objects.get(name_a), self._topology):
+            return self._changed.format(name_a)
+        if changed_since(bpy.data.objects.get(name_b), self._other_topology):
+            return self._changed.format(name_b)
+        return None
 
-                    result = grow(self.max_placements)
-                    if shared:
-                        # The active city's share of what it would place alone; the other's
-                        # grammar grows the rest of the region.
-                        alone = result[1]["placements"]
-                        limit = max(len(fitting), int(round(self.share * alone)))
-                        if limit == 0:  # (share 0: the other city's grammar grows it all)
-                            result = (grown, {key: (False if isinstance(value, bool) else 0)
-                                              for key, value in result[1].items()})
-                        elif limit < alone:
-                            result = grow(limit)
-                        if limit < alone:
-                            result[1]["stopped_by_budget"] = False  # (the share, not a budget)
-                            result[1]["share_of"] = alone
-                    grown, report = result
-                    reports.append(report)
-                # The main roads are continued once, over the streets of both growths: across
-                # the seam, those of one city meet those of the other only through both.
-                grown, hierarchy = ggg.continue_hierarchy(grown, base.edge_count, region=polygon)
-            except ggg.Error as ex:
-                hint = " (or turn off Use Placed Rules)" if isinstance(ex, ggg.UsageError) and self.use_placed_rules \
-                    else ""
-                self.report({'ERROR'}, "Cannot stitch {} and {} into {}: {}{}".format(
-                    active.name, other.name, region_obj.name, ex, hint))
-                return None
-            if first_placed is not None:
-                # (The other city's placed rules count as its rules.)
-                reports[-1]["placements"] += first_placed["placements"]
-                for key in ("added_vertices", "added_edges"):
-                    reports[-1][key] += first_placed[key]
-            # (The main roads' connectors add streets and intersections after the growths.)
-            added = grown.vertex_count - base.vertex_count
-            if added == 0:
-                self.report({'WARNING'}, "Nothing grew in {} between {} and {}: no rule fits there ({}: {}). The "
-                            "scene is unchanged.".format(region_obj.name, active.name, other.name,
-                                                         tries(reports[0]["attempts"]), rejections(reports[0])))
-                return None
-            progress.step(0.0, "updating the mesh")
-            keep = np.ones(len(old.positions), dtype=bool)
-            keep[np.asarray(used, dtype=np.int64)] = False
-            try:
-                result, source = appended(ggg, graph, keep, grown, base_ids, len(base_edge_ids))
-            except ggg.Error as ex:
-                self.report({'ERROR'}, "Cannot stitch {} and {}: {}".format(active.name, other.name, ex))
-                return None
-            replacement = graph_edit.Replacement(active, old, result, {"source_vertex": source},
-                                                 class_widths(context, ggg, result))
-            # The new streets that end on a vertex of either city.
-            edges = np.asarray(result.edges, dtype=np.int64).reshape(-1, 2)
-            new_edges = grown.edge_count - base.edge_count
-            ends = source[edges[len(edges) - new_edges:]]
-            from_a = int(np.count_nonzero(((ends >= 0) & (ends < n_a)).any(axis=1)))
-            from_b = int(np.count_nonzero(((ends >= n_a) & (ends < n_a + n_b)).any(axis=1)))
-
+    def _keep(self, context, active, _topology):
+        """Write the stitched graph into the active city, remove the other (main thread) and
+        report."""
+        name_a, name_b, region_name = self._names
+        other = bpy.data.objects[name_b]
+        done = self._job.result
+        reports = done.reports
+        if done.result is None:
+            self.report({'WARNING'}, "Nothing grew in {} between {} and {}: no rule fits there ({}: {}). The "
+                        "scene is unchanged.".format(region_name, name_a, name_b, tries(reports[0]["attempts"]),
+                                                     rejections(reports[0])))
+            return {'CANCELLED'}
+        with graph_edit.object_mode(context, active):
+            replacement = graph_edit.Replacement(active, done.old, done.result, {"source_vertex": done.source},
+                                                 class_widths(context, self._ggg, done.result))
             replacement.apply(context)
-            if names:
-                active[RULE_GRAMMARS_KEY] = names
+            if done.names:
+                active[RULE_GRAMMARS_KEY] = done.names
             elif RULE_GRAMMARS_KEY in active:
                 del active[RULE_GRAMMARS_KEY]
             roads.remove_graph_object(other)
             active.select_set(True)
             context.view_layer.objects.active = active
-            progress.step(1.0, "done")
-        counts = {"passes": reports, "traced": traced, "added_vertices": added, "added_edges": new_edges, "from_a": from_a,
-                  "from_b": from_b, "placed": len(used), "hierarchy": hierarchy}
-        return counts, left
 
-    def _summary(self, name_a, name_b, region_obj, counts):
+        if self._without_second:
+            self.report({'WARNING'}, "{} has no grammar (learn it first): the gap grew with {}'s rules only".format(
+                name_b, name_a))
+        if self._loops > 1:
+            self.report({'WARNING'}, "{} has {} outlines: grew into the largest".format(region_name, self._loops))
+        if done.left:
+            self.report({'WARNING'}, "{} did not fit into {} and {} left as {}".format(
+                plural(done.left, "placed rule"), region_name, "is" if done.left == 1 else "are",
+                "it was" if done.left == 1 else "they were"))
+        counts = {"passes": reports, "traced": done.traced, "added_vertices": done.added_vertices,
+                  "added_edges": done.added_edges, "from_a": done.from_a, "from_b": done.from_b,
+                  "placed": done.placed, "hierarchy": done.hierarchy}
+        budget = any(report["stopped_by_budget"] for report in reports)
+        self.report({'WARNING'} if budget else {'INFO'}, self._summary(name_a, name_b, region_name, counts))
+        return {'FINISHED'}
+
+    def _summary(self, name_a, name_b, region_name, counts):
         passes = counts["passes"]
         rules_b = passes[1]["placements"] if len(passes) > 1 else 0
         parts = ["Stitched {} and {} in {}: {} of {}, {} of {}, {}, {} new streets, {} from {}'s streets, {} from "
-                 "{}'s".format(name_a, name_b, region_obj.name, plural(passes[0]["placements"], "rule"), name_a,
+                 "{}'s".format(name_a, name_b, region_name, plural(passes[0]["placements"], "rule"), name_a,
                                plural(rules_b, "rule"), name_b, plural(counts["added_vertices"], "vertex"),
                                "{:,}".format(counts["added_edges"]), counts["from_a"], name_a, counts["from_b"],
                                name_b)]

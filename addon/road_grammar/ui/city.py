@@ -5,7 +5,7 @@ from bpy.types import Panel
 
 from ..display import city
 from ..operators.city import ROADS_OT_build_city, ROADS_OT_flythrough, ROADS_OT_render_city
-from .common import RoadsTab
+from .common import RoadsTab, run_button
 
 
 class VIEW3D_PT_roads_city(RoadsTab, Panel):
@@ -23,11 +23,7 @@ class VIEW3D_PT_roads_city(RoadsTab, Panel):
         col.prop(settings, "sidewalk_m")
         col.prop(settings, "sun_elevation")
         col.prop(settings, "sun_azimuth")
-        row = box.row()
-        row.enabled = graph is not None
-        op = row.operator(ROADS_OT_build_city.bl_idname, icon='MOD_BUILD')
-        for name in ROADS_OT_build_city._FROM_SETTINGS:
-            setattr(op, name, getattr(settings, name))
+        run_button(box, graph, settings, ROADS_OT_build_city, icon='MOD_BUILD')
         existing = city.find_collection(graph) if graph is not None else None
         if existing is not None:
             box.label(text="{:,} blocks, {:,} buildings".format(existing.get("blocks", 0), existing.get("buildings", 0)))

@@ -61,17 +61,24 @@ def constraints(col, settings):
         col.prop(settings, "min_irregularity")
 
 
-def run_button(box, graph, settings, operator):
+def job_progress(box, operator, graph):
+    """The progress of the job of the modal ``operator`` (a jobs.ModalJobOperator) running on
+    ``graph``; False (nothing drawn) when none runs."""
+    job = operator._running.get(graph.name) if graph is not None else None
+    if job is None:
+        return False
+    col = box.column(align=True)
+    col.label(text="{} ({:.0f}%)".format(job.message, 100.0 * job.fraction), icon='SORTTIME')
+    col.label(text="Cancelling\u2026" if job.cancelled else "Esc cancels")
+    return True
+
+
+def run_button(box, graph, settings, operator, icon='PLAY'):
     """The progress of the job of the modal ``operator`` (a jobs.ModalJobOperator) running on
     ``graph``, else its button with the panel's ``settings``."""
-    job = operator._running.get(graph.name) if graph is not None else None
-    if job is not None:
-        col = box.column(align=True)
-        col.label(text="{} ({:.0f}%)".format(job.message, 100.0 * job.fraction), icon='SORTTIME')
-        col.label(text="Cancelling\u2026" if job.cancelled else "Esc cancels")
-    else:
+    if not job_progress(box, operator, graph):
         row = box.row()
         row.enabled = graph is not None
-        op = row.operator(operator.bl_idname, icon='PLAY')
+        op = row.operator(operator.bl_idname, icon=icon)
         for name in operator._FROM_SETTINGS:
             setattr(op, name, getattr(settings, name))

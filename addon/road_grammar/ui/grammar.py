@@ -10,7 +10,7 @@ from ..operators.grammar import (ROADS_OT_add_axiom, ROADS_OT_grow, ROADS_OT_loa
                                  ROADS_OT_save_grammar)
 from ..operators.region import ROADS_OT_grow_region
 from ..operators.stitch import ROADS_OT_stitch_cities
-from .common import RoadsTab, wrapped_labels
+from .common import RoadsTab, job_progress, wrapped_labels
 
 # Rules listed in the panel; a longer grammar shows the first ones and a count.
 MAX_LISTED_RULES = 40
@@ -99,12 +99,13 @@ class VIEW3D_PT_roads_grammar(RoadsTab, Panel):
         col.prop(settings, "region_patience")
         col.prop(settings, "region_max_vertices")
         box.prop(settings, "region_use_placed")
-        row = box.row()
-        row.enabled = graph is not None
-        op = row.operator(ROADS_OT_grow_region.bl_idname, icon='PLAY')
-        for name, setting in ROADS_OT_grow_region._FROM_SETTINGS.items():
-            setattr(op, name, getattr(settings, setting))
-        op.region = settings.region.name if settings.region is not None else ""
+        if not job_progress(box, ROADS_OT_grow_region, graph):
+            row = box.row()
+            row.enabled = graph is not None
+            op = row.operator(ROADS_OT_grow_region.bl_idname, icon='PLAY')
+            for name, setting in ROADS_OT_grow_region._FROM_SETTINGS.items():
+                setattr(op, name, getattr(settings, setting))
+            op.region = settings.region.name if settings.region is not None else ""
 
         _draw_stitch(layout, context, settings)
 
@@ -126,6 +127,8 @@ def _draw_stitch(layout, context, settings):
         col.label(text="{} is joined into {}".format(others[0].name, active.name))
     box.prop(settings, "stitch_share")
     box.label(text="Region, seed and budgets: as for Grow into Region", icon='INFO')
+    if job_progress(box, ROADS_OT_stitch_cities, active):
+        return
     row = box.row()
     row.enabled = active is not None and len(others) == 1
     op = row.operator(ROADS_OT_stitch_cities.bl_idname, icon='PLAY')
