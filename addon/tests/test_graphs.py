@@ -1,11 +1,16 @@
 """core.columns and core.growth with the native module: cutting a graph down, appending what
 growth added, joining two graphs, and the rules placed by hand."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from road_grammar.core.columns import GraphColumns, appended, induced_subgraph, joined
-from road_grammar.core.growth import ThrottledProgress, placed_rules, placements_that_fit
+from road_grammar.core.growth import grow_into_region, placed_rules, placements_that_fit
+from road_grammar.core.jobs import StepsJob
+
+REPO = Path(__file__).resolve().parent.parent.parent
 
 
 def columns(positions, edges, symbols=None, frames=None, highway=None):
@@ -107,10 +112,50 @@ def test_placements_that_fit():
     assert placements_that_fit(growth, None, None, None, ["a"]) == [True]
 
 
-def test_throttled_progress():
-    seen = []
-    progress = ThrottledProgress(lambda fraction, message: seen.append((fraction, message)))
-    for fraction in (0.0, 0.001, 0.004, 0.011, 0.011):
-        assert progress(fraction, "growing") is True
-    progress(0.011, "done")
-    assert seen == [(0.0, "growing"), (0.011, "growing"), (0.011, "done")]
+def _sample_town(ggg):
+    """(GraphColumns of the sample town, its learned grammar, a rectangle east of it)."""
+    path = REPO / "samples" / "sample_city.osm"
+    if not path.is_file():
+        pytest.skip("{} is absent".format(path))
+    graph = ggg.read_graph(str(path))
+    town = columns(np.asarray(graph.positions), np.asarray(graph.edges),
+                   highway=np.asarray(graph.edge_highway))
+    grammar, _stats = ggg.learn(graph)
+    return town, grammar, np.array([[700.0, -600.0], [1500.0, -600.0], [1500.0, 600.0], [700.0, 600.0]])
+
+
+def test_grow_into_region_in_a_job(ggg):
+    """The growth of Grow into Region, run as a job, is ggg.grow_region on the town's streets,
+    with the town's vertices and edges first; the job's progress goes from 0 to 1."""
+    town, grammar, region = _sample_town(ggg)
+    def work(job):
+        return grow_into_region(job, ggg, town, grammar, region, [], [], seed=1, max_placements=200,
+                                max_vertices=200000, patience=150)
+
+    job = StepsJob(ggg, work)
+    job.start()
+    job.join()
+    assert job.error is None and job.fraction == 1.0 and job.calls > 3
+    grown = job.result
+    direct, report = ggg.grow_region(town.graph(ggg), grammar, region, seed=1)
+    assert grown.report["added_vertices"] == report["added_vertices"] > 0 and grown.used == []
+    np.testing.assert_allclose(np.asarray(grown.result.positions), np.asarray(direct.positions))
+    np.testing.assert_array_equal(np.asarray(grown.result.edges), np.asarray(direct.edges))
+    assert grown.source.tolist() == list(range(len(town.positions))) + [-1] * report["added_vertices"]
+
+
+def test_grow_into_region_cancelled(ggg):
+    """Cancelled while the library grows: ggg.Cancelled, no result."""
+    town, grammar, region = _sample_town(ggg)
+
+    class CancelInGrowth(StepsJob):
+        def __call__(self, fraction, message):
+            if message in ("placing rules", "tracing streets"):
+                self.cancel()
+            return super().__call__(fraction, message)
+
+    job = CancelInGrowth(ggg, lambda job: grow_into_region(job, ggg, town, grammar, region, [], [], seed=1,
+                                                           max_placements=200, max_vertices=200000, patience=150))
+    job.start()
+    job.join()
+    assert isinstance(job.error, ggg.Cancelled) and job.result is None

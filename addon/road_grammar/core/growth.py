@@ -1,29 +1,12 @@
 """Growing into a region with ggg.grow_region: the rules placed by hand (the graph's
-nonterminals) that go first, which of them fit, the progress of the growth, and the whole of
-Grow into Region without Blender (``grow_into_region``, run in a worker thread)."""
+nonterminals) that go first, which of them fit, and the whole of Grow into Region without
+Blender (``grow_into_region``, run in a worker thread)."""
 
 import math
 
 import numpy as np
 
 from .columns import appended, induced_subgraph
-
-
-class ThrottledProgress:
-    """The progress callback of ggg.grow_region (called on every try), passed on to another
-    progress callback (e.g. the window manager's progress) only when the percentage or the
-    message changes."""
-
-    def __init__(self, progress):
-        self._progress = progress
-        self._last = None
-
-    def __call__(self, fraction, message):
-        key = (int(100.0 * float(fraction)), message)
-        if key != self._last:
-            self._last = key
-            self._progress(fraction, message)
-        return True
 
 
 def placements_that_fit(ggg, base, parsed, polygon, placements):
