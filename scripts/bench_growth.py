@@ -1,5 +1,6 @@
-"""Growth figures of docs/benchmarks.md and docs/synthesis.md: time to grow 1,000 rules at
-Porto's east edge, and how alike regions grown from Columbus' and the Marais' grammars are to
+"""Growth figures of docs/benchmarks.md and docs/synthesis.md: time to grow a 1 km² hole cut
+out of Porto (all highways) back with default options, time to grow 1,000 rules at Porto's east
+edge, and how alike regions grown from Columbus' and the Marais' grammars are to
 each city (the four distances of ggg.compare, seeds 1 to 8).
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/bench_growth.py [--quick]
@@ -38,6 +39,37 @@ def porto_edge():
               report["intersections"]))
 
 
+def porto_hole():
+    """A 1 km x 1 km hole at the middle of Porto (all highways), grown back with default options."""
+    porto = ggg.read_graph(str(OSM / "porto_metro.osm.pbf"), highways="all")
+    p = porto.positions
+    centre = np.median(p, axis=0)
+    lo, hi = centre - 500.0, centre + 500.0
+    in_hole = np.all((p > lo) & (p < hi), axis=1)
+    edges = np.asarray(porto.edges)
+    keep = ~in_hole[edges[:, 0]] & ~in_hole[edges[:, 1]]
+    index = np.cumsum(~in_hole) - 1
+    offsets, points = porto.edge_geometry()
+    kept = np.flatnonzero(keep)
+    lines = [points[offsets[e]:offsets[e + 1]] for e in kept]
+    rest = ggg.Graph.from_arrays(p[~in_hole], index[edges[kept]], porto.origin_latlon,
+                                 edge_highway=np.asarray(porto.edge_highway)[kept],
+                                 edge_geometry=(np.concatenate([[0], np.cumsum([len(x) for x in lines])]).astype(np.int64),
+                                                np.concatenate(lines)))
+    t = time.perf_counter()
+    grammar, _ = ggg.learn(rest)
+    learned = time.perf_counter() - t
+    region = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
+    t = time.perf_counter()
+    grown, report = ggg.grow_region(rest, grammar, region, seed=1)
+    seconds = time.perf_counter() - t
+    real = int(np.count_nonzero(in_hole[edges[:, 0]] | in_hole[edges[:, 1]]))
+    print("porto 1 km2 hole (all highways, {:,} vertices): learn {:.1f} s; grow {:.2f} s: {:,} streets traced from {:,} "
+          "at the border, {} rules, {:,} new streets (the hole had {:,})".format(
+              rest.vertex_count, learned, seconds, report["traced_streets"], report["traced_seeds"],
+              report["placements"], report["added_edges"], real))
+
+
 def style(seeds):
     columbus = ggg.read_graph(str(OSM / "columbus_oh.osm.pbf"))
     paris = ggg.read_graph(str(OSM / "paris_marais.osm.pbf"))
@@ -61,6 +93,7 @@ def main(argv):
     if not OSM.is_dir():
         sys.exit("needs the extracts in {}".format(OSM))
     if not args.quick:
+        porto_hole()
         porto_edge()
     style(range(1, 3) if args.quick else range(1, 9))
 
