@@ -4,6 +4,6 @@ lists) and the File > Import menu entry. ``common`` holds what the panels share.
 Each module lists its classes in ``classes`` (the panels appear in the order they are
 registered) and, where it adds to a menu, ``menus`` ((menu, draw function), ...)."""
 
-from . import city, grammar, learning, patterns, roads
+from . import city, comparison, grammar, learning, patterns, roads
 
-modules = (roads, grammar, city, patterns, learning)
+modules = (roads, grammar, city, patterns, learning, comparison)
