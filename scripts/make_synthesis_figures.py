@@ -140,8 +140,9 @@ def stitch_figure(out):
     for gap in (gap_west, gap_east):
         ax.plot(*np.vstack([gap, gap[:1]]).T, color="#999999", ls="--", lw=0.8)
     frame(ax, (-650, -650), (2650, 650), "Barcelona (red) and Paris (blue), the gap grown from the streets of each "
-          "({} streets traced on, {} rules placed); main roads thick, continued across the gap in green ({} joined)".format(
-              r1["traced_streets"] + r2["traced_streets"], r1["placements"] + r2["placements"],
+          "({} streets traced on, {} placed); main roads thick, continued across the gap in green ({} joined)".format(
+              r1["traced_streets"] + r2["traced_streets"],
+              "1 rule" if r1["placements"] + r2["placements"] == 1 else "{} rules".format(r1["placements"] + r2["placements"]),
               hierarchy["routes"] + hierarchy["connectors"]))
     fig.text(0.99, 0.01, CREDIT, ha="right", fontsize=7, color="#666666")
     fig.tight_layout()
