@@ -23,6 +23,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"t_junctions", r.t_junctions},
         {"pruned_stubs", r.pruned_stubs},
         {"dissolved_vertices", r.dissolved_vertices},
+        {"removed_crossing_streets", r.removed_crossing_streets},
         {"main_road_routes", r.main_road_routes},
         {"raised_streets", r.raised_streets},
         {"main_road_connectors", r.main_road_connectors},

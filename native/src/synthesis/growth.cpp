@@ -239,6 +239,7 @@ public:
         close_dead_ends();
         prune_stubs();
         report.dissolved_vertices = dissolve_bends();
+        report.removed_crossing_streets = remove_crossings();
         if (o_.continue_hierarchy) {
             HierarchyOptions h_options;
             h_options.region = region_;
@@ -645,6 +646,63 @@ private:
             }
         }
         return kept;
+    }
+
+    // The last guard of the rule that no two streets cross without an intersection: a grown
+    // street that crosses another street (each stage checks as it goes; this catches what
+    // their combination lets through) is taken out again, the newer of two grown ones.
+    std::size_t remove_crossings() {
+        bgi::rtree<SegmentEntry, bgi::rstar<16>> pieces;
+        std::vector<std::pair<std::size_t, std::size_t>> piece_of; // (edge, piece)
+        for (std::size_t e = 0; e < g_.edge_count(); ++e) {
+            const Vec2* p = g_.geometry_begin(static_cast<EdgeId>(e));
+            for (std::size_t i = 0; i + 1 < g_.geometry_size(static_cast<EdgeId>(e)); ++i) {
+                Box box(point(p[i]), point(p[i]));
+                bg::expand(box, point(p[i + 1]));
+                pieces.insert({box, static_cast<EdgeId>(piece_of.size())});
+                piece_of.emplace_back(e, i);
+            }
+        }
+        std::vector<char> drop_edge(g_.edge_count(), 0);
+        std::size_t dropped = 0;
+        for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) {
+            if (drop_edge[e]) continue;
+            const auto [u, v] = g_.edges[e];
+            const Vec2* p = g_.geometry_begin(static_cast<EdgeId>(e));
+            bool crossing = false;
+            for (std::size_t i = 0; i + 1 < g_.geometry_size(static_cast<EdgeId>(e)) && !crossing; ++i) {
+                Box box(point(p[i]), point(p[i]));
+                bg::expand(box, point(p[i + 1]));
+                for (auto it = pieces.qbegin(bgi::intersects(box)); it != pieces.qend() && !crossing; ++it) {
+                    const auto [f, k] = piece_of[static_cast<std::size_t>(it->second)];
+                    if (f == e || drop_edge[f] || (f > e)) continue; // each pair once: the newer one goes
+                    const auto [a, b] = g_.edges[f];
+                    if (a == u || a == v || b == u || b == v) continue;
+                    const Vec2* q = g_.geometry_begin(static_cast<EdgeId>(f));
+                    const auto m = segment_meeting(p[i], p[i + 1], q[k], q[k + 1]);
+                    crossing = m && m->first > 1e-9 && m->first < 1 - 1e-9 && m->second > 1e-9 && m->second < 1 - 1e-9;
+                }
+            }
+            if (crossing) {
+                drop_edge[e] = 1;
+                ++dropped;
+            }
+        }
+        if (dropped == 0) return 0;
+        std::vector<std::size_t> degree(g_.vertex_count(), 0);
+        std::vector<Street> streets;
+        for (std::size_t e = 0; e < g_.edge_count(); ++e) {
+            if (drop_edge[e]) continue;
+            ++degree[static_cast<std::size_t>(g_.edges[e][0])];
+            ++degree[static_cast<std::size_t>(g_.edges[e][1])];
+            const Vec2* p = g_.geometry_begin(static_cast<EdgeId>(e));
+            streets.push_back({g_.edges[e][0], g_.edges[e][1], g_.edge_attributes(static_cast<EdgeId>(e)),
+                               std::vector<Vec2>(p, p + g_.geometry_size(static_cast<EdgeId>(e)))});
+        }
+        std::vector<char> drop_vertex(g_.vertex_count(), 0);
+        for (std::size_t v = base_vertices_; v < g_.vertex_count(); ++v) drop_vertex[v] = degree[v] == 0;
+        g_ = rebuilt(drop_vertex, streets);
+        return dropped;
     }
 
     // A grown vertex where two grown streets of one class meet and nothing else is no junction:

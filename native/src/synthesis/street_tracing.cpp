@@ -661,7 +661,7 @@ private:
             const Vec2 x = to_x.back();
             const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
             const bool room = (g_.positions[static_cast<std::size_t>(a)] - x).norm() > snap && (g_.positions[static_cast<std::size_t>(b)] - x).norm() > snap;
-            if (room && inside(region_, x) && static_cast<std::size_t>(e) >= fixed_edges_ && !first_hit(to_x, s.from) && !(s_.min_block_m2 > 0 && splits_small_block(s.from, e, x))) {
+            if (room && inside(region_, x) && static_cast<std::size_t>(e) >= fixed_edges_ && !first_hit(to_x, s.from, -1, e) && !(s_.min_block_m2 > 0 && splits_small_block(s.from, e, x))) {
                 const VertexId junction = split(e, x);
                 add_street(s.from, junction, to_x, s.highway);
                 ++report_.t_junctions;
@@ -718,9 +718,9 @@ private:
         for (int bends = 0;; ++bends) {
             const Settled settled = settle(s, line);
             if (settled == Settled::joined) return;
-            if (settled == Settled::dropped || nearest_vertex(line.back(), 0.5 * typical_, s.from)) {
+            if (settled == Settled::dropped || nearest_vertex(line.back(), crowd_ * typical_, s.from)) {
                 // Dropped: it ends at its last bend, if it had one.
-                if (!open.empty() && !nearest_vertex(open.back(), 0.5 * typical_, s.from)) open_end(s, open, nullptr, false);
+                if (!open.empty() && !nearest_vertex(open.back(), crowd_ * typical_, s.from)) open_end(s, open, nullptr, false);
                 else if (s.generation == 0 && s.retries < 8) retry(s);
                 else drop();
                 return;
@@ -832,6 +832,8 @@ private:
     double long_ = 100.0;   // their 90th percentile
     double expected_streets_ = 1.0;
     const double min_angle_ = M_PI / 6;
+    // No new junction within this many typical streets of another: the spacing of junctions.
+    const double crowd_ = 0.5;
     const double grid_tolerance_ = M_PI / 4;
     std::vector<std::vector<EdgeId>> adjacency_;
     bgi::rtree<PointEntry, bgi::rstar<16>> vertices_;
