@@ -12,7 +12,7 @@ if [ ! -d "$root/../shared/osm" ]; then
 fi
 (cd "$build" && ctest --output-on-failure --parallel "$(nproc)")
 # The add-on's pure-Python core (addon/road_grammar/core), outside Blender.
-GGG_MODULE_DIR="$build/python" python3 -B -m pytest -q -p no:cacheprovider "$root/addon/tests"
+GGG_MODULE_DIR="$build/python" /usr/bin/python3 -B -m pytest -q -p no:cacheprovider "$root/addon/tests"
 bash "$root/scripts/run_blender_tests.sh" --zip "$root/dist/road_grammar.zip"
 # The library and its fast tests again under AddressSanitizer and UndefinedBehaviorSanitizer
 # (build-sanitize/; docs/reliability.md): any finding fails the run.
