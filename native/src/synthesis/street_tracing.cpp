@@ -796,7 +796,7 @@ private:
     // Whether a street from v to a new junction at x on edge e would leave a block on either
     // side smaller than allowed.
     bool splits_small_block(VertexId v, EdgeId e, const Vec2& x) {
-        const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
+        const VertexId a = g_.edges[static_cast<std::size_t>(e)][0], b = g_.edges[static_cast<std::size_t>(e)][1];
         const auto x_id = static_cast<VertexId>(g_.vertex_count());
         std::vector<Vec2>& positions = g_.positions;
         positions.push_back(x);
