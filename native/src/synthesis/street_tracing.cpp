@@ -592,6 +592,15 @@ private:
         line = std::move(moved);
     }
 
+    // The street along `line`, bent to end at the junction w, added where it fits there.
+    bool end_at(const Street& s, const std::vector<Vec2>& line, VertexId w) {
+        const std::vector<Vec2> to_w = warped(line, g_.positions[static_cast<std::size_t>(w)]);
+        if (!fits_to_vertex(s.from, to_w, w)) return false;
+        add_street(s.from, w, to_w, s.highway);
+        ++report_.joined;
+        return true;
+    }
+
     enum class Settled { joined, dropped, open };
 
     // The street along `line` joined to what it meets (a crossing, a junction or a street near
@@ -609,11 +618,7 @@ private:
             const auto [a, b] = g_.edges[static_cast<std::size_t>(hit->edge)];
             for (const VertexId end : {a, b}) {
                 if ((g_.positions[static_cast<std::size_t>(end)] - hit->where).norm() < snap) {
-                    const std::vector<Vec2> to_end = warped(cut, g_.positions[static_cast<std::size_t>(end)]);
-                    if (!fits_to_vertex(s.from, to_end, end)) return Settled::dropped;
-                    add_street(s.from, end, to_end, s.highway);
-                    ++report_.joined;
-                    return Settled::joined;
+                    return end_at(s, cut, end) ? Settled::joined : Settled::dropped;
                 }
             }
             if (a == s.from || b == s.from) return Settled::dropped; // it would come back to where it started
@@ -633,26 +638,11 @@ private:
         // Out of the region: only to join a street there.
         const Vec2 end = line.back();
         if (leaves_region_inside_line(line) || !inside(region_, end)) {
-            if (const auto w = nearest_vertex(end, snap, s.from)) {
-                const std::vector<Vec2> to_w = warped(line, g_.positions[static_cast<std::size_t>(*w)]);
-                if (fits_to_vertex(s.from, to_w, *w)) {
-                    add_street(s.from, *w, to_w, s.highway);
-                    ++report_.joined;
-                    return Settled::joined;
-                }
-            }
-            return Settled::dropped;
+            const auto w = nearest_vertex(end, snap, s.from);
+            return w && end_at(s, line, *w) ? Settled::joined : Settled::dropped;
         }
         // A junction near its end: it ends there.
-        if (const auto w = nearest_vertex(end, snap, s.from)) {
-            const std::vector<Vec2> to_w = warped(line, g_.positions[static_cast<std::size_t>(*w)]);
-            if (fits_to_vertex(s.from, to_w, *w)) {
-                add_street(s.from, *w, to_w, s.highway);
-                ++report_.joined;
-                return Settled::joined;
-            }
-            return Settled::dropped;
-        }
+        if (const auto w = nearest_vertex(end, snap, s.from)) return end_at(s, line, *w) ? Settled::joined : Settled::dropped;
         // A street near its end: it meets it.
         if (const auto near = nearest_street(end, snap, s.from)) {
             const EdgeId e = near->edge;
