@@ -47,6 +47,11 @@ void LearnCommand::add_to(CLI::App& app) {
                  "Leave out copies farther than this from the pattern's shape (RMS, relative to its size; 0 = keep all)")
         ->check(number_in(0.0, 10.0))
         ->capture_default_str();
+    c.add_option("--max-vertex-error", max_vertex_error_m_,
+                 "Leave out copies with a street vertex farther than this many metres from the rule's shape "
+                 "(bounds the paper-mode error of every vertex; 0 = no bound)")
+        ->check(number_in(0.0, 1e6))
+        ->capture_default_str();
     import_.add_to(c);
     analysis_.max_order = LearnOptions::default_analysis().detection.max_order;
     analysis_.add_to(c);
@@ -58,6 +63,7 @@ int LearnCommand::run() const {
     options.lossless = lossless_;
     options.max_levels = levels_;
     options.max_shape_error = max_shape_error_;
+    options.max_vertex_error_m = max_vertex_error_m_;
     check_options(options);
     check_output_paths({output_, stats_path_});
     const auto t0 = std::chrono::steady_clock::now();

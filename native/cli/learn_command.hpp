@@ -28,6 +28,7 @@ private:
     bool lossless_ = false;
     int levels_ = 64;
     double max_shape_error_ = LearnOptions{}.max_shape_error;
+    double max_vertex_error_m_ = LearnOptions{}.max_vertex_error_m;
 };
 
 class DecodeCommand {

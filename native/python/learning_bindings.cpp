@@ -16,7 +16,7 @@ void bind_learning(py::module_& m) {
         "learn",
         [](const GeometricGraph& g, bool lossless, int levels, std::pair<int, int> grid, double cut, bool full, int max_order,
            std::int64_t min_count, const std::string& scale, double min_aspect, std::int64_t min_leaves, double min_irregularity,
-           double max_shape_error, std::optional<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>> seed,
+           double max_shape_error, double max_vertex_error, std::optional<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>> seed,
            double max_seconds, double max_memory_mb, std::optional<py::function> progress) {
             LearnOptions o;
             o.lossless = lossless;
@@ -34,6 +34,7 @@ void bind_learning(py::module_& m) {
             o.analysis.constraints.min_leaves = count_arg("min_leaves", min_leaves);
             o.analysis.constraints.min_irregularity_deg = min_irregularity;
             o.max_shape_error = max_shape_error;
+            o.max_vertex_error_m = max_vertex_error;
             if (seed) {
                 const auto s = seed->unchecked<1>();
                 for (py::ssize_t i = 0; i < s.shape(0); ++i) {
@@ -51,6 +52,7 @@ void bind_learning(py::module_& m) {
         py::arg("cut") = 0.8, py::arg("full") = false, py::arg("max_order") = LearnOptions::default_analysis().detection.max_order,
         py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
         py::arg("min_irregularity") = 0.0, py::arg("max_shape_error") = LearnOptions{}.max_shape_error,
+        py::arg("max_vertex_error") = LearnOptions{}.max_vertex_error_m,
         py::arg("seed") = py::none(), py::arg("max_seconds") = DetectionOptions{}.max_seconds,
         py::arg("max_memory_mb") = DetectionOptions{}.max_memory_mb, py::arg("progress") = py::none(),
         "Learn a grammar of the road graph: returns (Grammar, stats dict as `ggg learn` prints it).\n"

@@ -105,6 +105,7 @@ std::string test_name(const testing::TestParamInfo<std::string>& info) {
 }
 
 class LosslessCorpus : public testing::TestWithParam<std::string> {};
+class PaperCorpus : public testing::TestWithParam<std::string> {};
 
 } // namespace
 
@@ -130,6 +131,27 @@ TEST_P(LosslessCorpus, DecodesToExactlyTheInput) {
 INSTANTIATE_TEST_SUITE_P(SharedOsm, LosslessCorpus, testing::ValuesIn(test::corpus_files()), test_name);
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(LosslessCorpus);
 
+// Paper mode, default options and import: no decoded vertex is farther than
+// max_vertex_error_m from its input vertex (an occurrence that would move one further is not
+// encoded by that rule), and the mean stays under 3 m. Prints the sizes of graph and grammar.
+TEST_P(PaperCorpus, DecodedVerticesStayNearTheirStreets) {
+    const GeometricGraph input = read_graph(GetParam());
+    const LearnOptions options;
+    const LearnResult result = learn_grammar(input, options);
+    ASSERT_GT(result.grammar.rules.size(), 0u);
+    EXPECT_TRUE(result.roundtrip.edges_equal);
+    EXPECT_LE(result.roundtrip.max_displacement_m, options.max_vertex_error_m + 0.01);
+    EXPECT_LE(result.roundtrip.mean_displacement_m, 3.0);
+    std::printf("%s: %zu vertices, %zu levels, %zu rules, axiom %zu vertices, graph %zu B, grammar %zu B (%.2fx), error max %.2f m mean %.2f m\n",
+                std::filesystem::path(GetParam()).filename().c_str(), input.vertex_count(), static_cast<std::size_t>(result.grammar.encoding.levels),
+                result.grammar.rules.size(), result.grammar.axiom_vertices.size(), result.original_bytes, result.encoded_bytes,
+                static_cast<double>(result.encoded_bytes) / static_cast<double>(result.original_bytes), result.roundtrip.max_displacement_m,
+                result.roundtrip.mean_displacement_m);
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedOsm, PaperCorpus, testing::ValuesIn(test::corpus_files()), test_name);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(PaperCorpus);
+
 TEST(GrammarLearning, TheCorpusIsThere) {
     GGG_REQUIRE_CORPUS();
     EXPECT_GE(test::corpus_files().size(), 19u);
@@ -148,6 +170,7 @@ TEST(GrammarLearning, PaperModeErrorShrinksWithAFinerGrid) {
         const GeometricGraph g = test::make_grid(grid);
         LearnOptions coarse;
         coarse.max_shape_error = 0.0; // every copy the grid groups, as the paper encodes them
+        coarse.max_vertex_error_m = 0.0;
         coarse.analysis.detection.angle_cells = 12;
         coarse.analysis.detection.distance_cells = 10;
         LearnOptions fine = coarse;

@@ -7,7 +7,7 @@
 # decoding whole cities, and the few tests that learn a city's grammar first. The learning of
 # a city is fast only for the small extracts listed here; a city added to ../shared/osm is
 # `slow` until measured.
-set(ggg_lossless_fast_cities
+set(ggg_corpus_fast_cities
   aguascalientes_mx_osm_pbf barcelona_eixample_osm krems_at_osm_gz monaco_osm_pbf
   moscow_north_osm_gz oakland_west_osm_bz2 paris_marais_osm_pbf rome_centre_osm)
 set(ggg_slow_tests
@@ -22,8 +22,8 @@ foreach(ggg_test IN LISTS ggg_tests_TESTS)
   list(FIND ggg_slow_tests "${ggg_test}" ggg_at)
   if(ggg_at GREATER -1)
     set(ggg_label slow)
-  elseif(ggg_test MATCHES "^SharedOsm/LosslessCorpus\\.[A-Za-z]+/([A-Za-z0-9_]+)")
-    list(FIND ggg_lossless_fast_cities "${CMAKE_MATCH_1}" ggg_at)
+  elseif(ggg_test MATCHES "^SharedOsm/(Lossless|Paper)Corpus\\.[A-Za-z]+/([A-Za-z0-9_]+)")
+    list(FIND ggg_corpus_fast_cities "${CMAKE_MATCH_2}" ggg_at)
     if(ggg_at EQUAL -1)
       set(ggg_label slow)
     endif()

@@ -266,6 +266,7 @@ private:
             std::vector<Similarity2> fits;
             std::vector<Vec2> world(k);
             std::size_t kept = 0;
+            const std::size_t error_rejected_before = lr.error_rejected;
             for (auto& occ : occs) {
                 SimilarityFit best;
                 std::vector<VertexId> labelled = occ, trial(k);
@@ -282,10 +283,14 @@ private:
                     }
                 }
                 if (options_.max_shape_error > 0 && best.rms_residual > options_.max_shape_error * best.transform.scale()) continue;
+                if (options_.max_vertex_error_m > 0 && worst_street_misfit(group.pattern, best.transform, labelled) > options_.max_vertex_error_m) {
+                    ++lr.error_rejected;
+                    continue;
+                }
                 fits.push_back(best.transform);
                 occs[kept++] = std::move(labelled); // `labelled` is a copy, never occs[kept] itself
             }
-            lr.shape_rejected += occs.size() - kept;
+            lr.shape_rejected += occs.size() - kept - (lr.error_rejected - error_rejected_before);
             occs.resize(kept);
             fits.resize(kept);
             choose_aligned(occs, fits, static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
@@ -378,6 +383,18 @@ private:
         lr.seconds = seconds_since(level_start);
         result_.levels.push_back(lr);
         return true;
+    }
+
+    // The largest distance from a street vertex of the occurrence (labelled as the pattern)
+    // to where `fit` puts the pattern's vertex: the vertex's paper-mode decoding error.
+    // Nonterminals are left out, since their instances correct their own frames.
+    double worst_street_misfit(const Pattern& pattern, const Similarity2& fit, const std::vector<VertexId>& occ) const {
+        double worst = 0.0;
+        for (std::size_t j = 0; j < occ.size(); ++j) {
+            if (pattern.symbols[j] != 0) continue;
+            worst = std::max(worst, (fit.apply(pattern.positions[j]) - graph_.positions[static_cast<std::size_t>(occ[j])]).norm());
+        }
+        return worst;
     }
 
     // The occurrences to encode: a largest set that shares no vertex, taken first among the
@@ -873,6 +890,7 @@ void check_options(const LearnOptions& o) {
         throw UsageError("the quantum must be a power of ten between 1e-9 and 1e-3 m");
     }
     if (!(o.max_shape_error >= 0) || !std::isfinite(o.max_shape_error)) throw UsageError("max_shape_error: the shape error must be a finite number >= 0");
+    if (!(o.max_vertex_error_m >= 0) || !std::isfinite(o.max_vertex_error_m)) throw UsageError("max_vertex_error_m: the vertex error must be a finite number of metres >= 0");
     if (!(o.frame_tolerance_deg >= 0) || !(o.frame_scale_tolerance >= 1) || !std::isfinite(o.frame_scale_tolerance)) {
         throw UsageError("the frame tolerance must be >= 0 degrees and the scale tolerance a finite factor >= 1");
     }
@@ -897,6 +915,7 @@ nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& resu
                           {"instances", l.instances},
                           {"frame_rejected", l.frame_rejected},
                           {"shape_rejected", l.shape_rejected},
+                          {"error_rejected", l.error_rejected},
                           {"seconds", l.seconds}});
     }
     const RoundTrip& rt = result.roundtrip;

@@ -185,6 +185,13 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
     HierarchyReport report;
     const auto first = static_cast<std::size_t>(first_new_edge);
     if (first == g.edge_count()) return report;
+    // Raised streets are counted at the end against these: a street on two routes, or split
+    // by a connector after it was raised, is one raised street.
+    const std::vector<HighwayClass> classes_before(g.edge_highway.begin(), g.edge_highway.end());
+    auto finished = [&] {
+        for (std::size_t e = first; e < classes_before.size(); ++e) report.raised_streets += g.edge_highway[e] != classes_before[e];
+        return report;
+    };
 
     // The grown streets as their own small graph.
     std::unordered_map<VertexId, int> local_of;
@@ -336,7 +343,6 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
                 g.edge_highway[e] = c;
                 g.edge_lanes[e] = 0;
                 g.edge_width_m[e] = std::numeric_limits<double>::quiet_NaN();
-                ++report.raised_streets;
             }
             const int a = local_of.at(g.edges[e][0]);
             x = a == x ? local_of.at(g.edges[e][1]) : a;
@@ -346,7 +352,7 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
     // Main roads that face each other across the grown streets with no route between them
     // are joined by a straight main road, which crosses the grown streets at new
     // intersections.
-    if (o.max_connector_m <= 0) return report;
+    if (o.max_connector_m <= 0) return finished();
     const double facing = std::cos(o.max_connector_turn_deg * M_PI / 180.0);
     auto faces = [&](const MainRoad& from, const Vec2& towards) {
         for (const Vec2& h : from.headings) {
@@ -411,7 +417,6 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
                     g.edge_highway[it->second] = c;
                     g.edge_lanes[it->second] = 0;
                     g.edge_width_m[it->second] = std::numeric_limits<double>::quiet_NaN();
-                    ++report.raised_streets;
                 }
             }
             used[s] = used[t] = 1;
@@ -420,7 +425,7 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
             break;
         }
     }
-    return report;
+    return finished();
 }
 
 } // namespace ggg

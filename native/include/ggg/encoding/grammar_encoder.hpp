@@ -59,6 +59,12 @@ struct LearnOptions {
     // grid groups loosely, and a rule is only as good as the shape its instances share.
     // 0 = keep every occurrence.
     double max_shape_error = 0.15;
+    // No street vertex of an occurrence may lie farther than this (metres) from where the
+    // rule's shape, fitted to the occurrence, puts it: in paper mode that misfit is how far
+    // decoding moves the vertex (Fig. 11), so this bounds the paper-mode error of every
+    // vertex. A large copy can pass the relative test above and still bend one street by
+    // tens of metres. 0 = no bound.
+    double max_vertex_error_m = 7.0;
 
     static AnalyzeOptions default_analysis() {
         AnalyzeOptions a;
@@ -81,6 +87,7 @@ struct LevelReport {
     std::size_t instances = 0;    // occurrences replaced by nonterminals
     std::size_t frame_rejected = 0; // occurrences left out for an inconsistent frame
     std::size_t shape_rejected = 0; // ... for a shape too far from the pattern's
+    std::size_t error_rejected = 0; // ... for a street vertex farther than max_vertex_error_m
     double seconds = 0.0;
 };
 
