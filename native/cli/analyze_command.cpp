@@ -130,6 +130,9 @@ void AnalyzeCommand::add_to(CLI::App& app) {
     analysis_.add_to(c);
     c.add_option("--seed-osm-nodes", seed_osm_nodes_,
                  "Comma-separated OSM node ids: start from the subgraph they induce instead of every edge");
+    c.add_flag("--seed-within-tolerance", seed_within_tolerance_,
+               "The seed's copies are only those within --tolerance of the seed (default: also every copy the "
+               "automatic analysis groups with it)");
     c.add_option("--top", top_, "Print only the best N isogroups (0 = all)")->check(count_from<std::size_t>(0));
     c.add_flag("--occurrences", occurrences_, "List the OSM node ids of every occurrence");
     c.add_flag("--stats", stats_, "Also report per-order counts and peak memory");
@@ -142,6 +145,7 @@ int AnalyzeCommand::run() const {
     const GeometricGraph graph = read_graph(input_, import_.options(), nullptr, terminal_progress());
     const auto t1 = std::chrono::steady_clock::now();
     if (!seed_osm_nodes_.empty()) options.seed = seed_vertices(graph, seed_osm_nodes_);
+    options.include_analysis_group = !seed_within_tolerance_;
     const Analysis analysis = analyze(graph, options, terminal_progress());
     const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - t1;
     const std::chrono::duration<double> import_seconds = t1 - t0;

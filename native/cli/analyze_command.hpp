@@ -17,7 +17,7 @@ struct AnalysisFlags {
     bool full = false;
     int max_order = 8;
     std::size_t min_count = 2;
-    double tolerance = 0.2;
+    double tolerance = AnalyzeOptions{}.tolerance;
     std::string scale = "similarity";
     double min_aspect = 0.0;
     std::size_t min_leaves = 0;
@@ -50,6 +50,7 @@ private:
     std::string seed_osm_nodes_;
     std::size_t top_ = 0;
     bool occurrences_ = false;
+    bool seed_within_tolerance_ = false;
     bool stats_ = false;
 };
 

@@ -7,6 +7,7 @@
 
 #include "common.hpp"
 #include "ggg/analyzer.hpp"
+#include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/error.hpp"
 
 namespace ggg::python {
@@ -147,9 +148,10 @@ void bind_analysis(py::module_& m) {
             PythonProgress reporter(std::move(progress));
             return reporter.run([&](const ProgressCallback& cb) { return analyze(g, o, cb); });
         },
-        py::arg("graph"), py::arg("grid") = std::pair<int, int>{12, 10}, py::arg("cut") = 0.8, py::arg("full") = false,
-        py::arg("max_order") = 8, py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("seed") = py::none(),
-        py::arg("tolerance") = 0.2, py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
+        py::arg("graph"), py::arg("grid") = std::pair<int, int>{DetectionOptions{}.angle_cells, DetectionOptions{}.distance_cells},
+        py::arg("cut") = DetectionOptions{}.cut, py::arg("full") = false,
+        py::arg("max_order") = DetectionOptions{}.max_order, py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("seed") = py::none(),
+        py::arg("tolerance") = AnalyzeOptions{}.tolerance, py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
         py::arg("min_irregularity") = 0.0, py::arg("recount") = 0,
         py::arg("scale_range") = std::pair<double, double>{0.5, 2.0}, py::arg("max_seconds") = DetectionOptions{}.max_seconds,
         py::arg("max_memory_mb") = DetectionOptions{}.max_memory_mb, py::arg("progress") = py::none(),
@@ -165,28 +167,75 @@ void bind_analysis(py::module_& m) {
     m.def(
         "find_similar",
         [](const GeometricGraph& g, py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> seed, double tolerance,
-           const std::string& scale, std::pair<double, double> scale_range, std::optional<py::function> progress) {
-            SeedSearchOptions o;
+           const std::string& scale, std::pair<double, double> scale_range, std::pair<int, int> grid, double cut,
+           bool include_analysis_group, std::optional<py::function> progress) {
+            AnalyzeOptions o;
             o.tolerance = tolerance;
-            o.mode = scale_mode_from_name(scale);
-            o.min_scale = scale_range.first;
-            o.max_scale = scale_range.second;
+            o.include_analysis_group = include_analysis_group;
+            o.detection.scale_mode = scale_mode_from_name(scale);
+            o.detection.min_scale = scale_range.first;
+            o.detection.max_scale = scale_range.second;
+            o.detection.angle_cells = grid.first;
+            o.detection.distance_cells = grid.second;
+            o.detection.cut = cut;
             const std::vector<VertexId> vertices = vertex_list(seed, g);
             PythonProgress reporter(std::move(progress));
             return reporter.run([&](const ProgressCallback& cb) {
                 AnalyzedIsogroup a;
-                a.group = find_occurrences(g, vertices, o, cb);
+                a.group = find_similar(g, vertices, o, cb);
                 std::vector<Isogroup> one{a.group};
                 auto selected = select_isogroups(g, one);
                 a.selection = std::move(selected.front());
                 return a;
             });
         },
-        py::arg("graph"), py::arg("seed"), py::arg("tolerance") = 0.2, py::arg("scale") = "similarity",
-        py::arg("scale_range") = std::pair<double, double>{0.5, 2.0}, py::arg("progress") = py::none(),
+        py::arg("graph"), py::arg("seed"), py::arg("tolerance") = AnalyzeOptions{}.tolerance, py::arg("scale") = "similarity",
+        py::arg("scale_range") = std::pair<double, double>{DetectionOptions{}.min_scale, DetectionOptions{}.max_scale},
+        py::arg("grid") = std::pair<int, int>{DetectionOptions{}.angle_cells, DetectionOptions{}.distance_cells},
+        py::arg("cut") = DetectionOptions{}.cut, py::arg("include_analysis_group") = AnalyzeOptions{}.include_analysis_group,
+        py::arg("progress") = py::none(),
         "Every place where the piece of network induced by the `seed` vertices occurs again (the seed itself first).\n"
         "tolerance: largest vertex displacement relative to the piece's size. scale='range' accepts copies whose size\n"
-        "is within scale_range=(min, max) times the seed's.");
+        "is within scale_range=(min, max) times the seed's. include_analysis_group: also every copy that ggg.analyze\n"
+        "with this grid and cut groups with the seed (it compares the copies with each other, not only with the seed).");
+
+    m.def(
+        "option_defaults",
+        [] {
+            const AnalyzeOptions analysis;
+            const DetectionOptions& d = analysis.detection;
+            const LearnOptions learning;
+            const DetectionOptions& ld = learning.analysis.detection;
+            py::dict a, l;
+            a["angle_cells"] = d.angle_cells;
+            a["distance_cells"] = d.distance_cells;
+            a["cut"] = d.cut;
+            a["full"] = d.full;
+            a["max_order"] = d.max_order;
+            a["min_count"] = d.min_count;
+            a["tolerance"] = analysis.tolerance;
+            a["include_analysis_group"] = analysis.include_analysis_group;
+            a["min_aspect"] = analysis.constraints.min_aspect;
+            a["min_leaves"] = analysis.constraints.min_leaves;
+            a["min_irregularity"] = analysis.constraints.min_irregularity_deg;
+            l["angle_cells"] = ld.angle_cells;
+            l["distance_cells"] = ld.distance_cells;
+            l["cut"] = ld.cut;
+            l["max_order"] = ld.max_order;
+            l["levels"] = learning.max_levels;
+            l["max_shape_error"] = learning.max_shape_error;
+            l["max_vertex_error"] = learning.max_vertex_error_m;
+            l["min_aspect"] = learning.analysis.constraints.min_aspect;
+            l["min_leaves"] = learning.analysis.constraints.min_leaves;
+            l["min_irregularity"] = learning.analysis.constraints.min_irregularity_deg;
+            py::dict out;
+            out["analysis"] = a;
+            out["learning"] = l;
+            return out;
+        },
+        "The library's defaults of the analysis (ggg.analyze, ggg.find_similar) and of learning (ggg.learn), by the\n"
+        "names of their keyword arguments (grid as angle_cells and distance_cells): the values the CLI, Python and\n"
+        "the Blender add-on all start from.");
 }
 
 } // namespace ggg::python

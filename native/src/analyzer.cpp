@@ -2,7 +2,10 @@
 #include "ggg/analyzer.hpp"
 
 #include <algorithm>
+#include <set>
 #include <string>
+
+#include "ggg/analysis/pattern.hpp"
 
 namespace ggg {
 
@@ -45,7 +48,7 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
     DetectionResult detected;
     const bool seeded = !options.seed.empty();
     if (seeded) {
-        Isogroup seed = find_occurrences(g, options.seed, search_options(options), stage(progress, 0.0, 0.1));
+        Isogroup seed = find_similar(g, options.seed, options, stage(progress, 0.0, 0.1));
         detected = detect_isogroups_from(g, std::move(seed), options.detection, stage(progress, 0.1, 0.85));
     } else {
         detected = detect_isogroups(g, options.detection, stage(progress, 0.0, 0.85));
@@ -144,6 +147,70 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
         result.isogroups.push_back(std::move(a));
     }
     return result;
+}
+
+Isogroup find_similar(const GeometricGraph& g, std::span<const VertexId> seed, const AnalyzeOptions& options,
+                      const ProgressCallback& progress) {
+    check_options(options);
+    Isogroup found = find_occurrences(g, seed, search_options(options), stage(progress, 0.0, 0.3));
+    const std::size_t k = found.order();
+    if (!options.include_analysis_group || found.pattern.edges.empty() ||
+        (options.detection.max_order > 0 && k > static_cast<std::size_t>(options.detection.max_order))) {
+        return found;
+    }
+
+    // The group the analysis puts the seed in: detection up to the seed's order, the most
+    // frequent group of that order with the seed's vertex set among its occurrences.
+    DetectionOptions detection = options.detection;
+    detection.max_order = static_cast<int>(k);
+    const DetectionResult detected = detect_isogroups(g, detection, stage(progress, 0.3, 0.95));
+    std::vector<VertexId> seed_set(seed.begin(), seed.end());
+    std::sort(seed_set.begin(), seed_set.end());
+    const Isogroup* group = nullptr;
+    std::size_t seed_at = 0;
+    for (const Isogroup& candidate : detected.isogroups) {
+        if (candidate.order() != k || candidate.pattern.edges.size() != found.pattern.edges.size()) continue;
+        if (group && candidate.frequency() <= group->frequency()) continue;
+        for (std::size_t o = 0; o < candidate.frequency(); ++o) {
+            const auto occ = candidate.occurrence(o);
+            std::vector<VertexId> set(occ.begin(), occ.end());
+            std::sort(set.begin(), set.end());
+            if (set == seed_set) {
+                group = &candidate;
+                seed_at = o;
+                break;
+            }
+        }
+    }
+    report(progress, 1.0, "finding similar pieces");
+    if (!group) return found;
+
+    // The group's occurrences are labelled alike; relabel them as the seed is labelled.
+    const auto seed_occurrence = group->occurrence(seed_at);
+    std::vector<std::size_t> from_group(k);
+    for (std::size_t i = 0; i < k; ++i) {
+        from_group[i] = static_cast<std::size_t>(std::find(seed_occurrence.begin(), seed_occurrence.end(), seed[i]) - seed_occurrence.begin());
+    }
+    std::set<std::vector<VertexId>> have;
+    for (std::size_t o = 0; o < found.frequency(); ++o) {
+        const auto occ = found.occurrence(o);
+        std::vector<VertexId> set(occ.begin(), occ.end());
+        std::sort(set.begin(), set.end());
+        have.insert(std::move(set));
+    }
+    std::vector<Vec2> world(k);
+    for (std::size_t o = 0; o < group->frequency(); ++o) {
+        const auto occ = group->occurrence(o);
+        std::vector<VertexId> labelled(k);
+        for (std::size_t i = 0; i < k; ++i) labelled[i] = occ[from_group[i]];
+        std::vector<VertexId> set = labelled;
+        std::sort(set.begin(), set.end());
+        if (!have.insert(std::move(set)).second) continue;
+        for (std::size_t i = 0; i < k; ++i) world[i] = g.positions[static_cast<std::size_t>(labelled[i])];
+        found.vertices.insert(found.vertices.end(), labelled.begin(), labelled.end());
+        found.transforms.push_back(fit_similarity(found.pattern.positions, world).transform);
+    }
+    return found;
 }
 
 } // namespace ggg

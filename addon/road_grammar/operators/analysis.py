@@ -41,9 +41,14 @@ class ROADS_OT_find_similar(Operator):
     bl_options = {'REGISTER', 'UNDO'}
 
     tolerance: FloatProperty(name="Tolerance", description="Largest vertex displacement of a match, relative to the "
-                             "seed's size", default=0.15, min=0.0, soft_max=0.5, precision=3)
+                             "seed's size", default=0.2, min=0.0, soft_max=0.5, precision=3)
     scale: EnumProperty(name="Scale", description="How the size of a match may differ from the seed's",
                         items=SCALE_ITEMS, default='SIMILARITY')
+
+    include_analysis_group: BoolProperty(
+        name="As Analyze Groups", description="Also find every copy that Analyze groups with the selection (the "
+        "analysis compares the copies with each other, not only with the selection); off: only the copies within "
+        "the tolerance of the selection", default=True)
 
     _FROM_SETTINGS = ("tolerance", "scale")
 
@@ -70,8 +75,11 @@ class ROADS_OT_find_similar(Operator):
         with roads.Progress(context, read_share=1.0, label="Finding similar") as progress:
             try:
                 graph = topology.graph(ggg)
-                found = ggg.find_similar(graph, seed, tolerance=self.tolerance,
-                                         scale=SCALE_NAMES[self.scale], progress=progress)
+                # The scene's grid and cut: Find Similar finds at least what Analyze groups with the seed.
+                settings = context.scene.road_analysis
+                found = ggg.find_similar(graph, seed, tolerance=self.tolerance, scale=SCALE_NAMES[self.scale],
+                                         grid=(settings.angle_cells, settings.distance_cells), cut=settings.cut,
+                                         include_analysis_group=self.include_analysis_group, progress=progress)
             except ggg.Cancelled:
                 self.report({'WARNING'}, "Find Similar was cancelled; nothing changed")
                 return {'CANCELLED'}

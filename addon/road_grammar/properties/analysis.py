@@ -111,7 +111,7 @@ def settings_properties():
             default='SIMILARITY'),
         "tolerance": FloatProperty(
             name="Tolerance", description="Largest vertex displacement of a match, relative to the seed's size "
-            "(Find Similar, and Analyze with a seed)", default=0.15, min=0.0, soft_max=0.5, precision=3),
+            "(Find Similar, and Analyze with a seed)", default=0.2, min=0.0, soft_max=0.5, precision=3),
         "min_aspect": FloatProperty(
             name="Min Aspect", description="List only patterns at least this close to square (0 = any; 1 = as "
             "wide as long)", default=0.0, min=0.0, max=1.0, precision=2),

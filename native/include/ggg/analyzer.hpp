@@ -22,7 +22,11 @@ struct AnalyzeOptions {
     std::vector<VertexId> seed;
     // How far a copy may be from a pattern, relative to the pattern's size, for the seed
     // search and the recount.
-    double tolerance = 0.2;
+    double tolerance = SeedSearchOptions{}.tolerance;
+    // The seed's copies (Find Similar, the seeded analysis) also include every copy that the
+    // automatic analysis with these options groups with the seed (see find_similar); false =
+    // only the copies within `tolerance` of the seed.
+    bool include_analysis_group = true;
     // The leading isogroups are recounted exactly: their occurrences become every induced
     // copy within `tolerance` of a pattern that is the mean of those copies
     // (find_settled_pattern), whichever path the expansion took to them. Their counts then
@@ -55,5 +59,15 @@ struct Analysis {
 void check_options(const AnalyzeOptions& options);
 
 Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options = {}, const ProgressCallback& progress = {});
+
+// Find Similar: every copy of the piece induced by `seed` (the seed itself first, in the
+// seed's order, then in the order of the graph's edges): the copies within
+// `options.tolerance` of the seed (find_occurrences), and (include_analysis_group) every copy
+// that the automatic analysis with these options groups with the seed. The seed search alone compares each
+// copy with one noisy seed; the analysis's polar grid compares them with each other, and a
+// user who picks one block of a district the analysis found must find at least that
+// district. Throws as find_occurrences.
+Isogroup find_similar(const GeometricGraph& g, std::span<const VertexId> seed, const AnalyzeOptions& options = {},
+                      const ProgressCallback& progress = {});
 
 } // namespace ggg

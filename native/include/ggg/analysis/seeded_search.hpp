@@ -20,8 +20,9 @@ namespace ggg {
 
 struct SeedSearchOptions {
     // Largest distance of a vertex from its partner, relative to the seed's RMS radius (as in
-    // IsomorphismOptions): 0.15 finds the blocks a person would call "the same shape".
-    double tolerance = 0.15;
+    // IsomorphismOptions): 0.2 finds the blocks a person would call "the same shape". The
+    // one default of the seed search, the analysis's recount, the CLI, Python and Blender.
+    double tolerance = 0.2;
     IsomorphismOptions::Scale mode = IsomorphismOptions::Scale::similarity;
     double min_scale = 0.5;
     double max_scale = 2.0;

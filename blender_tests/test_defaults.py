@@ -1,0 +1,30 @@
+"""The add-on starts from the library's defaults: every setting of the Analyze, Find Similar
+and Learn panels that the library also has defaults to the library's value (ggg.option_defaults),
+so a user gets the same answer from the same input in Blender, in Python and on the command line."""
+
+import bpy
+import pytest
+
+from road_grammar.properties.analysis import ROADS_PG_analysis_settings
+from road_grammar.properties.learning import ROADS_PG_learning_settings
+
+
+def _defaults(rna):
+    return {p.identifier: p.default for p in rna.properties if hasattr(p, "default") and p.identifier != "rna_type"}
+
+
+@pytest.mark.parametrize("group, properties", [
+    ("analysis", lambda: _defaults(ROADS_PG_analysis_settings.bl_rna)),
+    ("analysis", lambda: _defaults(bpy.ops.roads.find_similar.get_rna_type())),
+    ("learning", lambda: _defaults(ROADS_PG_learning_settings.bl_rna)),
+    ("learning", lambda: _defaults(bpy.ops.roads.learn.get_rna_type())),
+])
+def test_settings_default_to_the_library(ggg, group, properties):
+    library = ggg.option_defaults()[group]
+    blender = properties()
+    shared = sorted(set(library) & set(blender))
+    assert len(shared) >= 2, "too few shared settings to compare: {}".format(shared)
+    for name in shared:
+        assert blender[name] == pytest.approx(library[name]), "{} ({}): Blender {} vs the library {}".format(
+            name, group, blender[name], library[name])
+
