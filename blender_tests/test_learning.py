@@ -339,6 +339,25 @@ def test_every_level_matches_the_library(town, ggg):
     assert result.level == 0
 
 
+def test_complete_learning_shows_every_level_down_to_one_vertex(town, ggg, reports):
+    """Learn with Complete on: the top level is the axiom's single nonterminal, and every level
+    shows what the library says it holds."""
+    assert bpy.ops.roads.learn(mode='LOSSLESS', complete=True) == {'FINISHED'}
+    result = town.road_learning
+    parsed = text_grammar(ggg, result.text)
+    stats = json.loads(result.stats)
+    assert stats["axiom"] == {"vertices": 1, "edges": 0}
+    assert stats["roundtrip"]["edges_equal"]
+    assert "complete" in result.parameters
+    for level in range(result.levels + 1):
+        result.level = level
+        _, arrays = display_arrays(town)
+        streets, held, markers = expected_level(ggg, parsed, level)
+        assert counts(arrays[rule_display.EDGE_RULE]) == held
+        assert counts(arrays[rule_display.MARKER_RULE]) == markers
+    assert sum(markers.values()) == 1  # the top level: one nonterminal
+
+
 def test_choosing_a_rule_highlights_its_instances(town, ggg, op_results, reports):
     assert bpy.ops.roads.learn() == {'FINISHED'}
     result = town.road_learning

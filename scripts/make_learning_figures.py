@@ -11,6 +11,7 @@ bundled sample town unless --osm names another file (the docs use Paris Marais f
 Writes
   learning_levels.png      the streets and the graph encoded to each level, coloured by rule
                            (the paper's Figure 13)
+  learning_complete.png    the same for complete encoding (--complete), down to one vertex
   learning_grid.png        paper mode decoded with a 12 x 10 and a 24 x 20 expansion grid,
                            and lossless mode, against the input (the paper's Figure 11)
 """
@@ -41,6 +42,10 @@ STREET = "#b8b8b8"
 CREDIT = "Map data (c) OpenStreetMap contributors, ODbL"
 
 
+def plural(n, word):
+    return "{} {}{}".format(n, word, "" if n == 1 else "s")
+
+
 def rule_colours(count):
     cmap = plt.get_cmap("tab20")
     return [cmap(i % 20) for i in range(count + 1)]
@@ -63,11 +68,13 @@ def frame_axes(ax, graph, title):
     ax.set_title(title, fontsize=10)
 
 
-def levels_figure(graph, out, credit):
-    grammar, stats = ggg.learn(graph)
+def levels_figure(graph, out, credit, complete=False):
+    grammar, stats = ggg.learn(graph, complete=complete)
     streets = ggg.decode(grammar)
     colours = rule_colours(len(grammar.symbols))
     levels = list(range(0, grammar.levels + 1))
+    if len(levels) > 4:  # the streets, the first level, one between and the axiom
+        levels = [0, 1, (grammar.levels + 1) // 2, grammar.levels]
     fig, axes = plt.subplots(1, len(levels), figsize=(5 * len(levels), 5.2))
     axes = np.atleast_1d(axes)
     for ax, level in zip(axes, levels):
@@ -85,10 +92,13 @@ def levels_figure(graph, out, credit):
             ax.scatter(*encoded.positions[nt].T, s=9, c=[colours[s] for s in symbols[nt]], edgecolors="#222222",
                        linewidths=0.4, zorder=3)
         title = "streets ({} vertices)".format(streets.vertex_count) if level == 0 else \
-            "level {}: {} vertices, {} nonterminals".format(level, encoded.vertex_count, int((symbols > 0).sum()))
+            "level {}: {}, {}".format(level, plural(encoded.vertex_count, "vertex").replace("vertexs", "vertices"),
+                                      plural(int((symbols > 0).sum()), "nonterminal"))
         frame_axes(ax, streets, title)
-    fig.suptitle("{} rules, {} level{} of hierarchy ({} mode)".format(
-        stats["rules"], stats["levels"], "" if stats["levels"] == 1 else "s", stats["mode"]), fontsize=11)
+    axiom = stats["axiom"]["vertices"]
+    fig.suptitle("{} rules, {} level{} of hierarchy ({} mode{}), axiom of {} vert{}".format(
+        stats["rules"], stats["levels"], "" if stats["levels"] == 1 else "s", stats["mode"],
+        ", complete" if complete else "", axiom, "ex" if axiom == 1 else "ices"), fontsize=11)
     if credit:
         fig.text(0.99, 0.01, credit, ha="right", fontsize=7, color="#666666")
     fig.tight_layout()
@@ -129,8 +139,9 @@ def main():
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     levels_figure(graph, out / "learning_levels.png", credit)
+    levels_figure(graph, out / "learning_complete.png", credit, complete=True)
     grid_figure(graph, out / "learning_grid.png", credit)
-    print("wrote {} and {}".format(out / "learning_levels.png", out / "learning_grid.png"))
+    print("wrote {}, {} and {}".format(out / "learning_levels.png", out / "learning_complete.png", out / "learning_grid.png"))
 
 
 if __name__ == "__main__":

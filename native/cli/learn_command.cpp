@@ -38,6 +38,9 @@ void LearnCommand::add_to(CLI::App& app) {
     auto& c = *command_;
     c.add_option("INPUT", input_, "Input road graph (OSM, GeoJSON or .ggraph)")->required();
     c.add_option("-o,--output", output_, "Grammar file to write (.json)")->required();
+    c.add_flag("--complete", complete_,
+               "Encode level after level until the axiom is a single vertex (paper Fig. 13): smaller repeating patterns "
+               "keep the encoding going where nothing pays, and what never repeats becomes a rule used once");
     c.add_flag("--lossless", lossless_, "Store per-vertex residuals: decoding gives back exactly the input's edges and positions");
     c.add_option("--levels", levels_, "Most passes of the encoder, each adding at most one level of hierarchy (0 = until nothing repeats)")->check(whole_number(0, 100000))->capture_default_str();
     c.add_option("--stats", stats_path_, "Also write the stats to this JSON file");
@@ -61,6 +64,7 @@ int LearnCommand::run() const {
     LearnOptions options;
     options.analysis = analysis_.options();
     options.lossless = lossless_;
+    options.complete = complete_;
     options.max_levels = levels_;
     options.max_shape_error = max_shape_error_;
     options.max_vertex_error_m = max_vertex_error_m_;

@@ -26,6 +26,7 @@ private:
     ImportFlags import_;
     AnalysisFlags analysis_;
     bool lossless_ = false;
+    bool complete_ = LearnOptions{}.complete;
     int levels_ = 64;
     double max_shape_error_ = LearnOptions{}.max_shape_error;
     double max_vertex_error_m_ = LearnOptions{}.max_vertex_error_m;

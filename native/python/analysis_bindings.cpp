@@ -223,6 +223,7 @@ void bind_analysis(py::module_& m) {
             l["cut"] = ld.cut;
             l["max_order"] = ld.max_order;
             l["levels"] = learning.max_levels;
+            l["complete"] = learning.complete;
             l["max_shape_error"] = learning.max_shape_error;
             l["max_vertex_error"] = learning.max_vertex_error_m;
             l["min_aspect"] = learning.analysis.constraints.min_aspect;

@@ -14,12 +14,13 @@ namespace ggg::python {
 void bind_learning(py::module_& m) {
     m.def(
         "learn",
-        [](const GeometricGraph& g, bool lossless, int levels, std::pair<int, int> grid, double cut, bool full, int max_order,
+        [](const GeometricGraph& g, bool lossless, bool complete, int levels, std::pair<int, int> grid, double cut, bool full, int max_order,
            std::int64_t min_count, const std::string& scale, double min_aspect, std::int64_t min_leaves, double min_irregularity,
            double max_shape_error, double max_vertex_error, std::optional<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>> seed,
            double max_seconds, double max_memory_mb, std::optional<py::function> progress) {
             LearnOptions o;
             o.lossless = lossless;
+            o.complete = complete;
             o.max_levels = levels;
             o.analysis.detection.angle_cells = grid.first;
             o.analysis.detection.distance_cells = grid.second;
@@ -48,7 +49,8 @@ void bind_learning(py::module_& m) {
             py::object stats = to_python(learn_report(g, result));
             return py::make_tuple(std::move(result.grammar), stats);
         },
-        py::arg("graph"), py::arg("lossless") = false, py::arg("levels") = 64, py::arg("grid") = std::pair<int, int>{12, 10},
+        py::arg("graph"), py::arg("lossless") = false, py::arg("complete") = LearnOptions{}.complete,
+        py::arg("levels") = LearnOptions{}.max_levels, py::arg("grid") = std::pair<int, int>{12, 10},
         py::arg("cut") = 0.8, py::arg("full") = false, py::arg("max_order") = LearnOptions::default_analysis().detection.max_order,
         py::arg("min_count") = 2, py::arg("scale") = "similarity", py::arg("min_aspect") = 0.0, py::arg("min_leaves") = 0,
         py::arg("min_irregularity") = 0.0, py::arg("max_shape_error") = LearnOptions{}.max_shape_error,
@@ -58,7 +60,8 @@ void bind_learning(py::module_& m) {
         "Learn a grammar of the road graph: returns (Grammar, stats dict as `ggg learn` prints it).\n"
         "lossless=True stores per-vertex residuals so that decode() gives back exactly the graph's edges and\n"
         "positions (within 1e-6 m). levels: most passes of the encoder, each adding at most one level of\n"
-        "hierarchy (0 = until nothing repeats). The analysis\n"
+        "hierarchy (0 = until nothing repeats). complete=True: encode until the axiom is a single vertex (smaller\n"
+        "repeating patterns where nothing pays, then one rule used once for what never repeats). The analysis\n"
         "options are those of ggg.analyze; min_aspect / min_leaves / min_irregularity constrain the patterns\n"
         "that become rules. seed: vertex ids of a piece the user picked: its pattern becomes the first rule, with all its\n"
         "copies. max_seconds / max_memory_mb: the analysis budgets (the time is the whole learning's); where\n"

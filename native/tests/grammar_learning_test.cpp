@@ -152,6 +152,40 @@ TEST_P(PaperCorpus, DecodedVerticesStayNearTheirStreets) {
 INSTANTIATE_TEST_SUITE_P(SharedOsm, PaperCorpus, testing::ValuesIn(test::corpus_files()), test_name);
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(PaperCorpus);
 
+// Complete encoding (Fig. 13): level after level down to an axiom of one vertex, and the
+// grammar still decodes to exactly the input (lossless), read back from its file; in paper
+// mode every vertex keeps its error bound.
+TEST(GrammarLearning, CompleteEncodingReachesOneVertexAndDecodesExactly) {
+    GGG_REQUIRE_CORPUS();
+    for (const char* name : {"krems_at.osm.gz", "paris_marais.osm.pbf", "aguascalientes_mx.osm.pbf"}) {
+        SCOPED_TRACE(name);
+        const GeometricGraph input = read_graph(test::shared_osm_dir() + "/" + name);
+        LearnOptions options;
+        options.complete = true;
+        options.lossless = true;
+        const LearnResult lossless = learn_grammar(input, options);
+        ASSERT_EQ(lossless.grammar.axiom_vertices.size(), 1u);
+        EXPECT_TRUE(lossless.grammar.axiom_edges.empty());
+        EXPECT_GE(lossless.grammar.encoding.levels, 3);
+        EXPECT_TRUE(lossless.roundtrip.edges_equal);
+        EXPECT_TRUE(lossless.roundtrip.classes_equal);
+        const GeometricGraph decoded = decode_grammar(through_file(lossless.grammar));
+        EXPECT_LE(expect_same_streets(input, decoded, 1e-6), 1e-6);
+        // Every level can be shown: the top one is the single nonterminal.
+        const int top = lossless.grammar.encoding.levels;
+        for (int level = 0; level <= top; ++level) EXPECT_GT(encoded_graph(lossless.grammar, level).vertex_count(), 0u);
+        EXPECT_EQ(encoded_graph(lossless.grammar, top).vertex_count(), 1u);
+
+        options.lossless = false;
+        const LearnResult paper = learn_grammar(input, options);
+        EXPECT_EQ(paper.grammar.axiom_vertices.size(), 1u);
+        EXPECT_TRUE(paper.roundtrip.edges_equal);
+        EXPECT_LE(paper.roundtrip.max_displacement_m, options.max_vertex_error_m + 0.01);
+        std::printf("%s complete: %d levels, %zu rules, %zu B against %zu B\n", name, top, paper.grammar.rules.size(),
+                    paper.encoded_bytes, paper.original_bytes);
+    }
+}
+
 TEST(GrammarLearning, TheCorpusIsThere) {
     GGG_REQUIRE_CORPUS();
     EXPECT_GE(test::corpus_files().size(), 19u);

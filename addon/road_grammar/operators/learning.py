@@ -51,7 +51,7 @@ class ROADS_OT_learn(ModalJobOperator, Operator):
     bl_options = {'REGISTER', 'UNDO'}
 
     __annotations__ = settings_properties(options={'SKIP_SAVE'})
-    _FROM_SETTINGS = ("angle_cells", "distance_cells", "cut", "max_order", "levels", "mode", "min_aspect",
+    _FROM_SETTINGS = ("angle_cells", "distance_cells", "cut", "max_order", "levels", "complete", "mode", "min_aspect",
                       "min_leaves", "min_irregularity", "use_seed")
     _running = running
     _doing = "Learning from"
@@ -63,7 +63,7 @@ class ROADS_OT_learn(ModalJobOperator, Operator):
     _changed = "{} changed while it was learned from; learn again"
 
     def draw(self, context):
-        draw_settings(self, ("cut", "max_order", "levels", "mode", "min_aspect", "min_leaves",
+        draw_settings(self, ("cut", "max_order", "levels", "complete", "mode", "min_aspect", "min_leaves",
                                           "min_irregularity", "use_seed"))
 
     def _settings(self, context):
@@ -108,7 +108,7 @@ class ROADS_OT_learn(ModalJobOperator, Operator):
 
     def _options(self):
         return {
-            "lossless": self.mode == 'LOSSLESS', "levels": self.levels,
+            "lossless": self.mode == 'LOSSLESS', "levels": self.levels, "complete": self.complete,
             "grid": (self.angle_cells, self.distance_cells), "cut": self.cut, "max_order": self.max_order,
             "min_aspect": self.min_aspect, "min_leaves": self.min_leaves, "min_irregularity": self.min_irregularity,
         }
@@ -145,8 +145,9 @@ class ROADS_OT_learn(ModalJobOperator, Operator):
         parts = ["grid {}x{}".format(self.angle_cells, self.distance_cells), "cut {:g}".format(self.cut),
                  "max order {}".format(self.max_order),
                  plural(self.levels, "level") if self.levels else "all levels",
+                 "complete" if self.complete else None,
                  "lossless" if self.mode == 'LOSSLESS' else "paper"]
-        return ", ".join(parts + constraint_parameters(self))
+        return ", ".join([p for p in parts if p] + constraint_parameters(self))
 
 
 def _learned_or_report(op, context):

@@ -61,6 +61,11 @@ def settings_properties(options=frozenset({'ANIMATABLE'})):
             name="Levels", description="Most levels of the hierarchy: each level encodes the repeated patterns of "
             "the graph encoded so far (0 = until nothing repeats)", default=64, min=0, soft_max=100,
             options=options),
+        "complete": BoolProperty(
+            name="Complete", description="Encode level after level until the axiom is a single vertex (paper Fig. "
+            "13): smaller repeating patterns keep the encoding going where nothing pays, and what never repeats "
+            "becomes a rule used once. Larger than the default grammar; shows the whole hierarchy",
+            default=False, options=options),
         "mode": EnumProperty(
             name="Mode", description="What the grammar keeps of the graph", items=MODE_ITEMS, default='PAPER',
             options=options),

@@ -50,6 +50,7 @@ class VIEW3D_PT_roads_learn(RoadsTab, Panel):
         col.prop(settings, "cut", text="Cut")
         col.prop(settings, "max_order")
         col.prop(settings, "levels")
+        col.prop(settings, "complete")
         box.row(align=True).prop(settings, "mode", expand=True)
         box.prop(settings, "use_seed")
         constraints(box.column(align=True), settings)

@@ -154,6 +154,11 @@ EdgeId edge_between(const GeometricGraph&, const Adjacency& adj, VertexId u, Ver
 
 class Encoder {
 public:
+    // How the copies of a group are taken: only where the rule pays for itself (the default),
+    // wherever it repeats (complete encoding, when nothing pays any more), the user's seed
+    // (whatever it saves), or once (complete encoding's last rule: what never repeated).
+    enum class Take { paying, repeating, seed, once };
+
     Encoder(const GeometricGraph& input, const LearnOptions& options, const ProgressCallback& progress)
         : input_(input), options_(options), progress_(progress) {}
 
@@ -165,8 +170,13 @@ public:
         int level = 1;
         if (!options_.seed.empty()) encode_level(level++, true);
         for (; level <= max_levels; ++level) {
-            if (!encode_level(level, false) || result_.stopped_by_budget) break;
+            // Complete encoding: where nothing pays any more, whatever still repeats keeps the
+            // encoding going (smaller patterns, down to a pair of vertices).
+            if (!encode_level(level, false) && !(options_.complete && !result_.stopped_by_budget && encode_level(level, false, Take::repeating))) break;
+            if (result_.stopped_by_budget) break;
         }
+        // ... and what never repeated becomes one rule, used once: the axiom is one vertex.
+        if (options_.complete && graph_.vertex_count() > 1) encode_rest(level);
         report(progress_, 0.92, "building the grammar");
         result_.axiom_edges = graph_.edge_count();
         Grammar grammar = build_grammar();
@@ -205,7 +215,7 @@ private:
 
     // One level: analyse, take the groups that pay, contract their occurrences. False when
     // nothing was encoded.
-    bool encode_level(int level, bool seeded) {
+    bool encode_level(int level, bool seeded, Take take = Take::paying) {
         if (graph_.edge_count() == 0) return false;
         const auto level_start = Clock::now();
         // Each level takes half of what is left of the first 90 %: the count of levels is not
@@ -244,135 +254,11 @@ private:
         lr.edges = graph_.edge_count();
         for (const AnalyzedIsogroup& ag : analysis.isogroups) {
             if (seeded && &ag != &analysis.isogroups.front()) break; // the seed's own group only
-            if (!seeded && ag.selection.gain <= 0) break; // ranked by gain: nothing after pays either
-            const Isogroup& group = ag.group;
-            const std::size_t k = group.order();
-            if (k < 2 || group.pattern.edges.empty()) continue;
+            // Ranked by gain: nothing after the first group that does not pay pays either.
+            if (!seeded && take == Take::paying && ag.selection.gain <= 0) break;
+            if (ag.group.order() < 2 || ag.group.pattern.edges.empty()) continue;
             if (ag.selection.non_overlapping.size() < options_.analysis.detection.min_count) continue;
-            std::vector<std::vector<VertexId>> occs;
-            for (std::size_t o = 0; o < group.frequency(); ++o) {
-                const auto occ = group.occurrence(o);
-                if (std::none_of(occ.begin(), occ.end(), [&](VertexId v) { return used[static_cast<std::size_t>(v)]; })) {
-                    occs.emplace_back(occ.begin(), occ.end());
-                }
-            }
-            if (occs.size() < options_.analysis.detection.min_count) continue;
-
-            // Each occurrence's frame, fitted to its vertices (among the pattern's symmetries,
-            // the labelling whose frame turns least from the map's axes, so that the
-            // instances of a symmetric pattern agree on where their vertices are); occurrences
-            // too far from the pattern's shape are left for a later level (or the axiom).
-            const std::vector<IsomorphismMatch> symmetries = geometric_automorphisms(group.pattern, symmetry_options_);
-            std::vector<Similarity2> fits;
-            std::vector<Vec2> world(k);
-            std::size_t kept = 0;
-            const std::size_t error_rejected_before = lr.error_rejected;
-            for (auto& occ : occs) {
-                SimilarityFit best;
-                std::vector<VertexId> labelled = occ, trial(k);
-                double best_turn = std::numeric_limits<double>::infinity();
-                for (const IsomorphismMatch& s : symmetries) {
-                    for (std::size_t j = 0; j < k; ++j) trial[j] = occ[static_cast<std::size_t>(s.mapping[j])];
-                    for (std::size_t j = 0; j < k; ++j) world[j] = graph_.positions[static_cast<std::size_t>(trial[j])];
-                    const SimilarityFit fit = fit_similarity(group.pattern.positions, world);
-                    const double turn = std::abs(fit.transform.angle());
-                    if (turn < best_turn - 1e-9) {
-                        best_turn = turn;
-                        best = fit;
-                        labelled = trial;
-                    }
-                }
-                if (options_.max_shape_error > 0 && best.rms_residual > options_.max_shape_error * best.transform.scale()) continue;
-                if (options_.max_vertex_error_m > 0 && worst_street_misfit(group.pattern, best.transform, labelled) > options_.max_vertex_error_m) {
-                    ++lr.error_rejected;
-                    continue;
-                }
-                fits.push_back(best.transform);
-                occs[kept++] = std::move(labelled); // `labelled` is a copy, never occs[kept] itself
-            }
-            lr.shape_rejected += occs.size() - kept - (lr.error_rejected - error_rejected_before);
-            occs.resize(kept);
-            fits.resize(kept);
-            choose_aligned(occs, fits, static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
-            if (occs.size() < options_.analysis.detection.min_count) continue;
-            std::vector<Frame> transforms(k);
-            const std::size_t before = occs.size();
-            consistent_frames(group, occs, fits, transforms);
-            lr.frame_rejected += before - occs.size();
-            if (occs.size() < options_.analysis.detection.min_count) continue;
-            std::size_t outside = 0;
-            for (const auto& occ : occs) {
-                std::size_t degrees = 0;
-                for (VertexId v : occ) degrees += adj.degree(v);
-                outside += degrees - 2 * group.pattern.edges.size();
-            }
-            if (!seeded && description_gain(k, group.pattern.edges.size(), occs.size(), outside) <= 0) continue;
-
-            const int rep = representative_vertex(graph_, adj, occs);
-            RuleDraft draft;
-            draft.level = level;
-            Rule& rule = draft.rule;
-            rule.symbol = static_cast<Symbol>(rules_.size() + 1);
-            rule.uses = occs.size();
-            const Vec2 origin = group.pattern.positions[static_cast<std::size_t>(rep)];
-            std::vector<Vec2> shape(k);
-            for (std::size_t j = 0; j < k; ++j) {
-                RuleVertex rv;
-                rv.position = round_to(group.pattern.positions[j] - origin, 1e7);
-                rv.symbol = group.pattern.symbols[j];
-                rv.transform = rv.symbol ? transforms[j] : Frame{};
-                shape[j] = rv.position;
-                rule.vertices.push_back(rv);
-            }
-            // Road class of each rule edge: the most common among the occurrences.
-            std::vector<std::vector<HighwayClass>> classes(group.pattern.edges.size());
-            for (const auto& occ : occs) {
-                for (std::size_t e = 0; e < group.pattern.edges.size(); ++e) {
-                    const auto [a, b] = group.pattern.edges[e];
-                    const EdgeId id = edge_between(graph_, adj, occ[static_cast<std::size_t>(a)], occ[static_cast<std::size_t>(b)]);
-                    classes[e].push_back(id >= 0 ? graph_.edge_highway[static_cast<std::size_t>(id)] : HighwayClass::other);
-                }
-            }
-            for (std::size_t e = 0; e < group.pattern.edges.size(); ++e) {
-                std::array<std::size_t, highway_class_count> count{};
-                for (HighwayClass c : classes[e]) ++count[static_cast<std::size_t>(c)];
-                const auto best = static_cast<HighwayClass>(std::max_element(count.begin(), count.end()) - count.begin());
-                rule.edges.push_back({group.pattern.edges[e][0], group.pattern.edges[e][1], best});
-            }
-            for (std::size_t c = 0; c < occs.size(); ++c) {
-                const auto& occ = occs[c];
-                for (std::size_t j = 0; j < k; ++j) world[j] = graph_.positions[static_cast<std::size_t>(occ[j])];
-                InstanceDraft inst;
-                inst.symbol = rule.symbol;
-                inst.fit = fit_similarity(shape, world).transform;
-                inst.frame = inst.fit;
-                inst.frame.t = world[nonterminal_vertex(graph_, adj, occ)];
-                for (std::size_t j = 0; j < k; ++j) {
-                    const Node n = nodes_[static_cast<std::size_t>(occ[j])];
-                    inst.members.push_back(n);
-                    if (n.nonterminal) instances_[static_cast<std::size_t>(n.id)].parent = static_cast<std::int32_t>(instances_.size());
-                    used[static_cast<std::size_t>(occ[j])] = 1;
-                }
-                RuleInstance ri;
-                ri.symbol = rule.symbol;
-                for (std::size_t e = 0; e < rule.edges.size(); ++e) {
-                    const auto [a, b] = group.pattern.edges[e];
-                    if (rule.vertices[static_cast<std::size_t>(a)].symbol || rule.vertices[static_cast<std::size_t>(b)].symbol) continue;
-                    if (classes[e][c] != rule.edges[e].highway) ri.edge_classes.emplace_back(static_cast<std::int32_t>(e), classes[e][c]);
-                }
-                level_instances.push_back(static_cast<std::int32_t>(instances_.size()));
-                instances_.push_back(std::move(inst));
-                encoded_.push_back(std::move(ri));
-                occurrence_of_.push_back(occ);
-            }
-            std::vector<double> sizes;
-            for (std::size_t c = instances_.size() - occs.size(); c < instances_.size(); ++c) sizes.push_back(instances_[c].fit.scale());
-            std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
-            draft.rule.size_m = round_significant(sizes[sizes.size() / 2], 4);
-            lr.instances += occs.size();
-            ++lr.rules;
-            rules_.push_back(std::move(draft));
-            rotations_.push_back(static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
+            encode_group(ag.group, seeded ? Take::seed : take, level, adj, used, level_instances, lr);
         }
         if (level_instances.empty()) {
             if (seeded) lr.seconds = seconds_since(level_start), result_.levels.push_back(lr);
@@ -383,6 +269,174 @@ private:
         lr.seconds = seconds_since(level_start);
         result_.levels.push_back(lr);
         return true;
+    }
+
+    // Complete encoding's last level: the whole graph left becomes the right side of one rule
+    // used once, and the axiom its single nonterminal.
+    void encode_rest(int level) {
+        const auto level_start = Clock::now();
+        const Adjacency adj(graph_);
+        std::vector<VertexId> all(graph_.vertex_count());
+        for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<VertexId>(v);
+        Similarity2 frame;
+        Isogroup rest;
+        rest.pattern = induced_pattern(graph_, adj, all, &frame);
+        rest.vertices = all;
+        rest.transforms.push_back(frame);
+        LevelReport lr;
+        lr.level = level;
+        lr.vertices = graph_.vertex_count();
+        lr.edges = graph_.edge_count();
+        std::vector<char> used(graph_.vertex_count(), 0);
+        std::vector<std::int32_t> level_instances;
+        encode_group(rest, Take::once, level, adj, used, level_instances, lr);
+        if (level_instances.empty()) return;
+        contract(level_instances, used);
+        occurrence_of_.clear();
+        lr.seconds = seconds_since(level_start);
+        result_.levels.push_back(lr);
+    }
+
+    // Makes a rule of `group` from those of its occurrences that are free, fit its shape and
+    // sit in consistent frames, and records an instance for each; nothing when too few are
+    // left (or, paying, when they no longer pay).
+    void encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
+                      std::vector<std::int32_t>& level_instances, LevelReport& lr) {
+        const std::size_t k = group.order();
+        const std::size_t min_count = take == Take::once ? 1 : options_.analysis.detection.min_count;
+        std::vector<std::vector<VertexId>> occs;
+        for (std::size_t o = 0; o < group.frequency(); ++o) {
+            const auto occ = group.occurrence(o);
+            if (std::none_of(occ.begin(), occ.end(), [&](VertexId v) { return used[static_cast<std::size_t>(v)]; })) {
+                occs.emplace_back(occ.begin(), occ.end());
+            }
+        }
+        if (occs.size() < min_count) return;
+
+        // Each occurrence's frame, fitted to its vertices (among the pattern's symmetries,
+        // the labelling whose frame turns least from the map's axes, so that the
+        // instances of a symmetric pattern agree on where their vertices are); occurrences
+        // too far from the pattern's shape are left for a later level (or the axiom).
+        // (A rule used once has one labelling: its own; and the search for the symmetries of a
+        // whole district would be long.)
+        std::vector<IsomorphismMatch> symmetries;
+        if (take == Take::once) {
+            IsomorphismMatch identity;
+            for (std::size_t j = 0; j < k; ++j) identity.mapping.push_back(static_cast<int>(j));
+            symmetries.push_back(std::move(identity));
+        } else {
+            symmetries = geometric_automorphisms(group.pattern, symmetry_options_);
+        }
+        std::vector<Similarity2> fits;
+        std::vector<Vec2> world(k);
+        std::size_t kept = 0;
+        const std::size_t error_rejected_before = lr.error_rejected;
+        for (auto& occ : occs) {
+            SimilarityFit best;
+            std::vector<VertexId> labelled = occ, trial(k);
+            double best_turn = std::numeric_limits<double>::infinity();
+            for (const IsomorphismMatch& s : symmetries) {
+                for (std::size_t j = 0; j < k; ++j) trial[j] = occ[static_cast<std::size_t>(s.mapping[j])];
+                for (std::size_t j = 0; j < k; ++j) world[j] = graph_.positions[static_cast<std::size_t>(trial[j])];
+                const SimilarityFit fit = fit_similarity(group.pattern.positions, world);
+                const double turn = std::abs(fit.transform.angle());
+                if (turn < best_turn - 1e-9) {
+                    best_turn = turn;
+                    best = fit;
+                    labelled = trial;
+                }
+            }
+            if (options_.max_shape_error > 0 && best.rms_residual > options_.max_shape_error * best.transform.scale()) continue;
+            if (options_.max_vertex_error_m > 0 && worst_street_misfit(group.pattern, best.transform, labelled) > options_.max_vertex_error_m) {
+                ++lr.error_rejected;
+                continue;
+            }
+            fits.push_back(best.transform);
+            occs[kept++] = std::move(labelled); // `labelled` is a copy, never occs[kept] itself
+        }
+        lr.shape_rejected += occs.size() - kept - (lr.error_rejected - error_rejected_before);
+        occs.resize(kept);
+        fits.resize(kept);
+        choose_aligned(occs, fits, static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
+        if (occs.size() < min_count) return;
+        std::vector<Frame> transforms(k);
+        const std::size_t before = occs.size();
+        consistent_frames(group, occs, fits, transforms);
+        lr.frame_rejected += before - occs.size();
+        if (occs.size() < min_count) return;
+        std::size_t outside = 0;
+        for (const auto& occ : occs) {
+            std::size_t degrees = 0;
+            for (VertexId v : occ) degrees += adj.degree(v);
+            outside += degrees - 2 * group.pattern.edges.size();
+        }
+        if (take == Take::paying && description_gain(k, group.pattern.edges.size(), occs.size(), outside) <= 0) return;
+
+        const int rep = representative_vertex(graph_, adj, occs);
+        RuleDraft draft;
+        draft.level = level;
+        Rule& rule = draft.rule;
+        rule.symbol = static_cast<Symbol>(rules_.size() + 1);
+        rule.uses = occs.size();
+        const Vec2 origin = group.pattern.positions[static_cast<std::size_t>(rep)];
+        std::vector<Vec2> shape(k);
+        for (std::size_t j = 0; j < k; ++j) {
+            RuleVertex rv;
+            rv.position = round_to(group.pattern.positions[j] - origin, 1e7);
+            rv.symbol = group.pattern.symbols[j];
+            rv.transform = rv.symbol ? transforms[j] : Frame{};
+            shape[j] = rv.position;
+            rule.vertices.push_back(rv);
+        }
+        // Road class of each rule edge: the most common among the occurrences.
+        std::vector<std::vector<HighwayClass>> classes(group.pattern.edges.size());
+        for (const auto& occ : occs) {
+            for (std::size_t e = 0; e < group.pattern.edges.size(); ++e) {
+                const auto [a, b] = group.pattern.edges[e];
+                const EdgeId id = edge_between(graph_, adj, occ[static_cast<std::size_t>(a)], occ[static_cast<std::size_t>(b)]);
+                classes[e].push_back(id >= 0 ? graph_.edge_highway[static_cast<std::size_t>(id)] : HighwayClass::other);
+            }
+        }
+        for (std::size_t e = 0; e < group.pattern.edges.size(); ++e) {
+            std::array<std::size_t, highway_class_count> count{};
+            for (HighwayClass c : classes[e]) ++count[static_cast<std::size_t>(c)];
+            const auto best = static_cast<HighwayClass>(std::max_element(count.begin(), count.end()) - count.begin());
+            rule.edges.push_back({group.pattern.edges[e][0], group.pattern.edges[e][1], best});
+        }
+        for (std::size_t c = 0; c < occs.size(); ++c) {
+            const auto& occ = occs[c];
+            for (std::size_t j = 0; j < k; ++j) world[j] = graph_.positions[static_cast<std::size_t>(occ[j])];
+            InstanceDraft inst;
+            inst.symbol = rule.symbol;
+            inst.fit = fit_similarity(shape, world).transform;
+            inst.frame = inst.fit;
+            inst.frame.t = world[nonterminal_vertex(graph_, adj, occ)];
+            for (std::size_t j = 0; j < k; ++j) {
+                const Node n = nodes_[static_cast<std::size_t>(occ[j])];
+                inst.members.push_back(n);
+                if (n.nonterminal) instances_[static_cast<std::size_t>(n.id)].parent = static_cast<std::int32_t>(instances_.size());
+                used[static_cast<std::size_t>(occ[j])] = 1;
+            }
+            RuleInstance ri;
+            ri.symbol = rule.symbol;
+            for (std::size_t e = 0; e < rule.edges.size(); ++e) {
+                const auto [a, b] = group.pattern.edges[e];
+                if (rule.vertices[static_cast<std::size_t>(a)].symbol || rule.vertices[static_cast<std::size_t>(b)].symbol) continue;
+                if (classes[e][c] != rule.edges[e].highway) ri.edge_classes.emplace_back(static_cast<std::int32_t>(e), classes[e][c]);
+            }
+            level_instances.push_back(static_cast<std::int32_t>(instances_.size()));
+            instances_.push_back(std::move(inst));
+            encoded_.push_back(std::move(ri));
+            occurrence_of_.push_back(occ);
+        }
+        std::vector<double> sizes;
+        for (std::size_t c = instances_.size() - occs.size(); c < instances_.size(); ++c) sizes.push_back(instances_[c].fit.scale());
+        std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
+        draft.rule.size_m = round_significant(sizes[sizes.size() / 2], 4);
+        lr.instances += occs.size();
+        ++lr.rules;
+        rules_.push_back(std::move(draft));
+        rotations_.push_back(static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
     }
 
     // The largest distance from a street vertex of the occurrence (labelled as the pattern)

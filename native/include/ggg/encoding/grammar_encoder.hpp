@@ -45,6 +45,11 @@ struct LearnOptions {
     // Most passes of the encoder (each adds at most one level of hierarchy); 0 = until
     // nothing repeats.
     int max_levels = 64;
+    // Complete encoding (paper Fig. 13): when nothing pays for a rule any more, every pattern
+    // that still repeats (down to two vertices) is encoded level after level, and what never
+    // repeats becomes one last rule used once, so that the axiom is a single vertex. The
+    // grammar is larger than the default one; it shows the whole hierarchy.
+    bool complete = false;
     // Lossless residuals are multiples of this; a power of ten between 1e-9 and 1e-3 m.
     // Rounding each coordinate to it moves a vertex by at most 0.71 quantum.
     double quantum_m = 1e-6;
