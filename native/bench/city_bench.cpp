@@ -5,9 +5,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "ggg/city_layout.hpp"
+#include "ggg/synthesis/city_layout.hpp"
 #include "ggg/io/read_graph.hpp"
-#include "ggg/planar_faces.hpp"
+#include "ggg/graph/planar_faces.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 namespace {
 

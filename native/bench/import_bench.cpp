@@ -7,6 +7,7 @@
 #include <benchmark/benchmark.h>
 
 #include "ggg/io/read_graph.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 namespace {
 

@@ -13,7 +13,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "ggg/selection/non_overlapping.hpp"
+#include "ggg/analysis/non_overlapping.hpp"
 
 namespace {
 

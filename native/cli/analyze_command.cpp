@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ggg/analyzer.hpp"
+#include "ggg/analysis/analyzer.hpp"
 #include "ggg/error.hpp"
 #include "ggg/io/read_graph.hpp"
 

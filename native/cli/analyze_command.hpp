@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli_common.hpp"
-#include "ggg/analyzer.hpp"
+#include "ggg/analysis/analyzer.hpp"
 
 namespace ggg::cli {
 

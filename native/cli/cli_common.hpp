@@ -12,8 +12,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "ggg/osm_import.hpp"
+#include "ggg/osm/osm_import.hpp"
 #include "ggg/progress.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 namespace ggg::cli {
 

@@ -9,9 +9,10 @@
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/error.hpp"
-#include "ggg/io/files.hpp"
+#include "ggg/files.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
+#include "ggg/io/reports.hpp"
 #include "../src/io/json_util.hpp"
 
 namespace ggg::cli {

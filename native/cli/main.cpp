@@ -16,15 +16,15 @@
 #include "cli_common.hpp"
 #include "learn_command.hpp"
 #include "ggg/error.hpp"
-#include "ggg/graph_info.hpp"
-#include "ggg/io/files.hpp"
+#include "ggg/io/graph_info.hpp"
+#include "ggg/files.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/geojson.hpp"
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/synthesis/growth.hpp"
 #include "ggg/io/read_graph.hpp"
 #include "ggg/io/reports.hpp"
-#include "ggg/rewriting.hpp"
+#include "ggg/grammar/rewriting.hpp"
 
 namespace {
 

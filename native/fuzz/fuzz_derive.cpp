@@ -9,7 +9,7 @@
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/error.hpp"
 #include "ggg/io/grammar_file.hpp"
-#include "ggg/rewriting.hpp"
+#include "ggg/grammar/rewriting.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);

@@ -19,7 +19,8 @@
 
 #include "fuzz_common.hpp"
 #include "ggg/error.hpp"
-#include "ggg/osm_import.hpp"
+#include "ggg/osm/osm_import.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "common.hpp"
-#include "ggg/analyzer.hpp"
+#include "ggg/analysis/analyzer.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/error.hpp"
 

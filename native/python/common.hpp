@@ -13,7 +13,7 @@
 
 #include "ggg/error.hpp"
 #include "ggg/progress.hpp"
-#include "ggg/similarity.hpp"
+#include "ggg/graph/similarity.hpp"
 
 namespace ggg::python {
 

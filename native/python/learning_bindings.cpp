@@ -8,6 +8,7 @@
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/error.hpp"
+#include "ggg/io/reports.hpp"
 
 namespace ggg::python {
 

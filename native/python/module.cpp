@@ -10,15 +10,16 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "ggg/city_layout.hpp"
+#include "ggg/synthesis/city_layout.hpp"
 #include "ggg/error.hpp"
-#include "ggg/graph_info.hpp"
+#include "ggg/io/graph_info.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
-#include "ggg/planar_faces.hpp"
-#include "ggg/projection.hpp"
+#include "ggg/graph/planar_faces.hpp"
+#include "ggg/osm/projection.hpp"
 #include "ggg/encoding/decoding.hpp"
-#include "ggg/rewriting.hpp"
+#include "ggg/grammar/rewriting.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -5,9 +5,9 @@
 
 #include "common.hpp"
 #include "ggg/error.hpp"
-#include "ggg/grammar.hpp"
+#include "ggg/grammar/grammar.hpp"
 #include "ggg/measures/network_comparison.hpp"
-#include "ggg/analyzer.hpp"
+#include "ggg/analysis/analyzer.hpp"
 #include "ggg/io/reports.hpp"
 #include "ggg/synthesis/growth.hpp"
 #include "ggg/synthesis/replacement.hpp"

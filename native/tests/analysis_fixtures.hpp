@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "ggg/analysis/pattern.hpp"
-#include "ggg/geometric_graph.hpp"
+#include "ggg/graph/geometric_graph.hpp"
 
 namespace ggg::test {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "ggg/geometric_graph.hpp"
+#include "ggg/graph/geometric_graph.hpp"
 
 namespace ggg::test {
 

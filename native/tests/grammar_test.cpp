@@ -11,7 +11,7 @@
 #include "fixtures.hpp"
 #include "ggg/error.hpp"
 #include "ggg/io/grammar_file.hpp"
-#include "ggg/rewriting.hpp"
+#include "ggg/grammar/rewriting.hpp"
 
 using namespace ggg;
 

@@ -14,6 +14,7 @@
 #include "ggg/io/read_graph.hpp"
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/synthesis/growth.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 #include <nlohmann/json.hpp>
 

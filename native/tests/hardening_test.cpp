@@ -21,7 +21,7 @@
 
 #include "fixtures.hpp"
 #include "ggg/error.hpp"
-#include "ggg/io/files.hpp"
+#include "ggg/files.hpp"
 #include "ggg/io/geojson.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"

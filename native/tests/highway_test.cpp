@@ -1,7 +1,8 @@
 #include <gtest/gtest.h>
 
 #include "ggg/error.hpp"
-#include "ggg/highway.hpp"
+#include "ggg/graph/road_class.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 using namespace ggg;
 

@@ -9,10 +9,11 @@
 
 #include "fixtures.hpp"
 #include "ggg/error.hpp"
-#include "ggg/graph_info.hpp"
+#include "ggg/io/graph_info.hpp"
 #include "ggg/io/geojson.hpp"
 #include "ggg/io/graph_file.hpp"
 #include "ggg/io/read_graph.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 using namespace ggg;
 using ggg::test::temp_file;

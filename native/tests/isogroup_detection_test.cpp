@@ -11,7 +11,7 @@
 #include "analysis_fixtures.hpp"
 #include "fixtures.hpp"
 #include "ggg/analysis/isogroup_detection.hpp"
-#include "ggg/analyzer.hpp"
+#include "ggg/analysis/analyzer.hpp"
 #include "ggg/error.hpp"
 #include "ggg/io/read_graph.hpp"
 

@@ -8,6 +8,7 @@
 #include "fixtures.hpp"
 #include "ggg/io/read_graph.hpp"
 #include "ggg/measures/network_comparison.hpp"
+#include "ggg/io/reports.hpp"
 
 namespace ggg {
 namespace {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "ggg/error.hpp"
-#include "ggg/selection/non_overlapping.hpp"
+#include "ggg/analysis/non_overlapping.hpp"
 
 using namespace ggg;
 

@@ -14,8 +14,9 @@
 #include <unordered_set>
 
 #include "fixtures.hpp"
-#include "ggg/osm_import.hpp"
-#include "ggg/projection.hpp"
+#include "ggg/osm/osm_import.hpp"
+#include "ggg/osm/projection.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 using namespace ggg;
 

@@ -9,7 +9,8 @@
 
 #include "fixtures.hpp"
 #include "ggg/io/read_graph.hpp"
-#include "ggg/planar_faces.hpp"
+#include "ggg/graph/planar_faces.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 using namespace ggg;
 

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "ggg/error.hpp"
-#include "ggg/projection.hpp"
+#include "ggg/osm/projection.hpp"
 
 using namespace ggg;
 

@@ -5,7 +5,7 @@
 #include <set>
 
 #include "analysis_fixtures.hpp"
-#include "ggg/analyzer.hpp"
+#include "ggg/analysis/analyzer.hpp"
 #include "ggg/error.hpp"
 #include "ggg/synthesis/replacement.hpp"
 

@@ -13,7 +13,7 @@
 #include "analysis_fixtures.hpp"
 #include "fixtures.hpp"
 #include "ggg/analysis/seeded_search.hpp"
-#include "ggg/analyzer.hpp"
+#include "ggg/analysis/analyzer.hpp"
 #include "ggg/error.hpp"
 #include "ggg/io/read_graph.hpp"
 

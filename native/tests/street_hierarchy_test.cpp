@@ -11,7 +11,7 @@
 #include "fixtures.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/error.hpp"
-#include "ggg/highway.hpp"
+#include "ggg/graph/road_class.hpp"
 #include "ggg/io/read_graph.hpp"
 #include "ggg/synthesis/growth.hpp"
 #include "ggg/synthesis/street_hierarchy.hpp"

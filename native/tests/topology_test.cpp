@@ -8,8 +8,9 @@
 
 #include "fixtures.hpp"
 #include "ggg/error.hpp"
-#include "ggg/osm_import.hpp"
-#include "ggg/projection.hpp"
+#include "ggg/osm/osm_import.hpp"
+#include "ggg/osm/projection.hpp"
+#include "ggg/osm/highway_filter.hpp"
 
 using namespace ggg;
 using ggg::test::temp_file;

@@ -11,17 +11,12 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include <boost/geometry.hpp>
-#include <boost/geometry/index/rtree.hpp>
-#include <nlohmann/json.hpp>
-
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/error.hpp"
-#include "ggg/io/grammar_file.hpp"
-#include "ggg/rewriting.hpp"
-#include "ggg/selection/isogroup_selection.hpp"
-#include "ggg/selection/non_overlapping.hpp"
-#include "../io/json_util.hpp"
+#include "ggg/grammar/rewriting.hpp"
+#include "ggg/graph/spatial_index.hpp"
+#include "ggg/analysis/isogroup_selection.hpp"
+#include "ggg/analysis/non_overlapping.hpp"
 
 namespace ggg {
 namespace {
@@ -58,14 +53,12 @@ Complex linear(const Similarity2& s) { return {s.a, s.b}; }
 
 // The distance between the two closest vertices (infinity for fewer than two).
 double closest_pair_distance(const std::vector<Vec2>& positions) {
-    namespace bg = boost::geometry;
-    namespace bgi = boost::geometry::index;
-    using Point = bg::model::point<double, 2, bg::cs::cartesian>;
-    using Entry = std::pair<Point, std::size_t>;
+    namespace bgi = spatial::bgi;
+    using Entry = std::pair<spatial::Point, std::size_t>;
     std::vector<Entry> entries;
     entries.reserve(positions.size());
-    for (std::size_t i = 0; i < positions.size(); ++i) entries.emplace_back(Point(positions[i].x(), positions[i].y()), i);
-    const bgi::rtree<Entry, bgi::rstar<16>> tree(entries.begin(), entries.end());
+    for (std::size_t i = 0; i < positions.size(); ++i) entries.emplace_back(spatial::point(positions[i]), i);
+    const spatial::RTree<Entry> tree(entries.begin(), entries.end());
     double closest = std::numeric_limits<double>::infinity();
     for (const Entry& e : entries) {
         for (auto it = tree.qbegin(bgi::nearest(e.first, 2)); it != tree.qend(); ++it) {
@@ -187,8 +180,6 @@ public:
         result_.grammar = std::move(grammar);
         report(progress_, 0.98, "decoding the grammar to check it");
         check_roundtrip();
-        result_.original_bytes = graph_structure_bytes(input_, options_.quantum_m);
-        result_.encoded_bytes = io_detail::dump(grammar_to_json(result_.grammar)).size() + 1;
         result_.encoding_seconds = seconds_since(start) - result_.analysis_seconds;
         report(progress_, 1.0, "done");
         return std::move(result_);
@@ -783,14 +774,13 @@ private:
         // How far apart things are around each place when an instance's embedding is
         // resolved, in the step that rewrites it: the streets placed by then (counted all,
         // which only errs on the safe side) and the nonterminals that step places.
-        namespace bg = boost::geometry;
-        namespace bgi = boost::geometry::index;
-        using Point = bg::model::point<double, 2, bg::cs::cartesian>;
-        using Tree = bgi::rtree<Point, bgi::rstar<16>>;
+        namespace bg = spatial::bg;
+        namespace bgi = spatial::bgi;
+        using Tree = spatial::RTree<spatial::Point>;
         auto tree_of = [](const std::vector<Vec2>& positions) {
-            std::vector<Point> points;
+            std::vector<spatial::Point> points;
             points.reserve(positions.size());
-            for (const Vec2& p : positions) points.emplace_back(p.x(), p.y());
+            for (const Vec2& p : positions) points.push_back(spatial::point(p));
             return Tree(points.begin(), points.end());
         };
         const Tree streets = tree_of(decoded_);
@@ -798,7 +788,7 @@ private:
         for (const auto& positions : step_nonterminals_) nonterminals.push_back(tree_of(positions));
         const double same_place = 10 * options_.quantum_m;
         auto nearest_other = [&](const Tree& tree, const Vec2& p) {
-            for (auto it = tree.qbegin(bgi::nearest(Point(p.x(), p.y()), 2)); it != tree.qend(); ++it) {
+            for (auto it = tree.qbegin(bgi::nearest(spatial::point(p), 2)); it != tree.qend(); ++it) {
                 const double d = std::hypot(bg::get<0>(*it) - p.x(), bg::get<1>(*it) - p.y());
                 if (d > same_place) return d; // nearest first; a nearer one is the vertex itself
             }
@@ -957,62 +947,6 @@ LearnResult learn_grammar(const GeometricGraph& graph, const LearnOptions& optio
         if (v < 0 || static_cast<std::size_t>(v) >= graph.vertex_count()) throw UsageError("a seed vertex is out of range");
     }
     return Encoder(graph, options, progress).run();
-}
-
-nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& result) {
-    nlohmann::json levels = nlohmann::json::array();
-    for (const LevelReport& l : result.levels) {
-        levels.push_back({{"level", l.level},
-                          {"vertices", l.vertices},
-                          {"edges", l.edges},
-                          {"rules", l.rules},
-                          {"instances", l.instances},
-                          {"frame_rejected", l.frame_rejected},
-                          {"shape_rejected", l.shape_rejected},
-                          {"error_rejected", l.error_rejected},
-                          {"seconds", l.seconds}});
-    }
-    const RoundTrip& rt = result.roundtrip;
-    const Grammar& g = result.grammar;
-    return {
-        {"input", {{"vertices", input.vertex_count()}, {"edges", input.edge_count()}}},
-        {"mode", g.encoding.mode},
-        {"rules", g.rules.size()},
-        {"instances", g.encoding.instances.size()},
-        {"levels", g.encoding.levels},
-        {"stopped_by_budget", result.stopped_by_budget},
-        {"axiom", {{"vertices", g.axiom_vertices.size()}, {"edges", result.axiom_edges}}},
-        {"seconds", {{"analysis", result.analysis_seconds}, {"encoding", result.encoding_seconds}}},
-        {"bytes", {{"original", result.original_bytes}, {"encoded", result.encoded_bytes}}},
-        {"roundtrip",
-         {{"edges_equal", rt.edges_equal},
-          {"classes_equal", rt.classes_equal},
-          {"missing_edges", rt.missing_edges},
-          {"extra_edges", rt.extra_edges},
-          {"unplaced_vertices", rt.unplaced_vertices},
-          {"max_displacement_m", rt.max_displacement_m},
-          {"mean_displacement_m", rt.mean_displacement_m}}},
-        {"per_level", std::move(levels)},
-    };
-}
-
-std::size_t graph_structure_bytes(const GeometricGraph& g, double quantum_m) {
-    const double inverse = 1.0 / quantum_m;
-    nlohmann::json x = nlohmann::json::array(), y = nlohmann::json::array(), u = nlohmann::json::array(),
-                   v = nlohmann::json::array(), highway = nlohmann::json::array();
-    for (const Vec2& p : g.positions) {
-        x.push_back(round_to(p.x(), inverse));
-        y.push_back(round_to(p.y(), inverse));
-    }
-    for (std::size_t e = 0; e < g.edge_count(); ++e) {
-        u.push_back(g.edges[e][0]);
-        v.push_back(g.edges[e][1]);
-        highway.push_back(static_cast<int>(g.edge_highway[e]));
-    }
-    const nlohmann::json doc = {{"origin_latlon", {g.origin.lat, g.origin.lon}},
-                                {"vertices", {{"x", std::move(x)}, {"y", std::move(y)}}},
-                                {"edges", {{"u", std::move(u)}, {"v", std::move(v)}, {"highway", std::move(highway)}}}};
-    return io_detail::dump(doc).size() + 1;
 }
 
 } // namespace ggg

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ggg/error.hpp"
-#include "ggg/projection.hpp"
+#include "ggg/osm/projection.hpp"
 #include "json_util.hpp"
 
 namespace ggg {

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ggg/error.hpp"
-#include "ggg/io/files.hpp"
+#include "ggg/files.hpp"
 
 namespace ggg::io_detail {
 

@@ -9,7 +9,7 @@
 #include "ggg/error.hpp"
 #include "ggg/io/geojson.hpp"
 #include "ggg/io/graph_file.hpp"
-#include "ggg/projection.hpp"
+#include "ggg/osm/projection.hpp"
 #include "json_util.hpp"
 
 namespace ggg {

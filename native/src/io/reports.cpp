@@ -1,5 +1,11 @@
 #include "ggg/io/reports.hpp"
 
+#include <algorithm>
+#include <cmath>
+
+#include "ggg/io/grammar_file.hpp"
+#include "json_util.hpp"
+
 namespace ggg {
 
 nlohmann::json growth_report_json(const GrowReport& r) {
@@ -32,6 +38,118 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"filled", r.filled},
         {"stopped_by_budget", r.stopped_by_budget},
     };
+}
+
+
+nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& result) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const LevelReport& l : result.levels) {
+        levels.push_back({{"level", l.level},
+                          {"vertices", l.vertices},
+                          {"edges", l.edges},
+                          {"rules", l.rules},
+                          {"instances", l.instances},
+                          {"frame_rejected", l.frame_rejected},
+                          {"shape_rejected", l.shape_rejected},
+                          {"error_rejected", l.error_rejected},
+                          {"seconds", l.seconds}});
+    }
+    const RoundTrip& rt = result.roundtrip;
+    const Grammar& g = result.grammar;
+    return {
+        {"input", {{"vertices", input.vertex_count()}, {"edges", input.edge_count()}}},
+        {"mode", g.encoding.mode},
+        {"rules", g.rules.size()},
+        {"instances", g.encoding.instances.size()},
+        {"levels", g.encoding.levels},
+        {"stopped_by_budget", result.stopped_by_budget},
+        {"axiom", {{"vertices", g.axiom_vertices.size()}, {"edges", result.axiom_edges}}},
+        {"seconds", {{"analysis", result.analysis_seconds}, {"encoding", result.encoding_seconds}}},
+        {"bytes", {{"original", graph_structure_bytes(input, g.encoding.quantum_m > 0 ? g.encoding.quantum_m : LearnOptions{}.quantum_m)}, {"encoded", grammar_bytes(g)}}},
+        {"roundtrip",
+         {{"edges_equal", rt.edges_equal},
+          {"classes_equal", rt.classes_equal},
+          {"missing_edges", rt.missing_edges},
+          {"extra_edges", rt.extra_edges},
+          {"unplaced_vertices", rt.unplaced_vertices},
+          {"max_displacement_m", rt.max_displacement_m},
+          {"mean_displacement_m", rt.mean_displacement_m}}},
+        {"per_level", std::move(levels)},
+    };
+}
+
+std::size_t graph_structure_bytes(const GeometricGraph& g, double quantum_m) {
+    // Rounded as the grammar file rounds its positions: the double nearest a short decimal.
+    const double inverse = std::pow(10.0, std::round(-std::log10(quantum_m)));
+    auto round_to = [](double x, double inverse_step) {
+        const double r = std::round(x * inverse_step) / inverse_step;
+        return r == 0.0 ? 0.0 : r;
+    };
+    nlohmann::json x = nlohmann::json::array(), y = nlohmann::json::array(), u = nlohmann::json::array(),
+                   v = nlohmann::json::array(), highway = nlohmann::json::array();
+    for (const Vec2& p : g.positions) {
+        x.push_back(round_to(p.x(), inverse));
+        y.push_back(round_to(p.y(), inverse));
+    }
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        u.push_back(g.edges[e][0]);
+        v.push_back(g.edges[e][1]);
+        highway.push_back(static_cast<int>(g.edge_highway[e]));
+    }
+    const nlohmann::json doc = {{"origin_latlon", {g.origin.lat, g.origin.lon}},
+                                {"vertices", {{"x", std::move(x)}, {"y", std::move(y)}}},
+                                {"edges", {{"u", std::move(u)}, {"v", std::move(v)}, {"highway", std::move(highway)}}}};
+    return io_detail::dump(doc).size() + 1;
+}
+
+std::size_t grammar_bytes(const Grammar& grammar) { return io_detail::dump(grammar_to_json(grammar)).size() + 1; }
+
+namespace {
+
+// The figures of one network in `ggg compare` (docs/measures.md).
+nlohmann::json summary(const StreetStatistics& s) {
+    auto median = [](const std::vector<double>& sorted) {
+        if (sorted.empty()) return 0.0;
+        const std::size_t n = sorted.size();
+        return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+    };
+    const auto bins = static_cast<int>(s.degree_histogram.size());
+    double mean_degree = 0.0;
+    for (int d = 0; d < bins; ++d) mean_degree += d * s.degree_histogram[static_cast<std::size_t>(d)];
+    double stars = 0.0;
+    for (int d = 5; d < bins; ++d) stars += s.degree_histogram[static_cast<std::size_t>(d)];
+    return {{"vertices", s.vertices},
+            {"junctions", s.junctions},
+            {"dead_end_share", s.degree_histogram[1]},
+            {"degree2_share", s.degree_histogram[2]},
+            {"star_share", stars},
+            {"right_angle_share", s.right_angle_share},
+            {"through_share", s.through_share},
+            {"circuity", std::isfinite(s.circuity) ? nlohmann::json(s.circuity) : nlohmann::json(nullptr)},
+            {"edges", s.edges},
+            {"mean_degree", mean_degree},
+            {"median_edge_length_m", median(s.edge_lengths_m)},
+            {"orientation_entropy", s.orientation_entropy},
+            {"orientation_order", s.orientation_order},
+            {"blocks", s.block_areas_m2.size()},
+            {"median_block_area_m2", median(s.block_areas_m2)}};
+}
+
+} // namespace
+
+nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b) {
+    const StreetStatistics sa = street_statistics(a);
+    const StreetStatistics sb = street_statistics(b);
+    const NetworkDistances d = network_distances(sa, sb);
+    return {{"distances",
+             {{"degree", d.degree},
+              {"edge_length", d.edge_length},
+              {"orientation", d.orientation},
+              {"block_area", d.block_area},
+              {"mean", d.mean()},
+              {"junction_angle", d.junction_angle}}},
+            {"a", summary(sa)},
+            {"b", summary(sb)}};
 }
 
 } // namespace ggg

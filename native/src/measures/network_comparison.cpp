@@ -7,7 +7,7 @@
 #include <limits>
 #include <queue>
 
-#include "ggg/planar_faces.hpp"
+#include "ggg/graph/planar_faces.hpp"
 
 namespace ggg {
 
@@ -43,12 +43,6 @@ double kolmogorov_smirnov(const std::vector<double>& a, const std::vector<double
         gap = std::max(gap, std::abs(static_cast<double>(i) / static_cast<double>(a.size()) - static_cast<double>(j) / static_cast<double>(b.size())));
     }
     return gap;
-}
-
-double median(const std::vector<double>& sorted) {
-    if (sorted.empty()) return 0.0;
-    const std::size_t n = sorted.size();
-    return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
 }
 
 // The direction in which edge `e` leaves vertex `v`: towards the point 20 m along its
@@ -137,28 +131,6 @@ double circuity(const GeometricGraph& g, const Adjacency& adj) {
     return straight > 0 ? network / straight : std::nan("");
 }
 
-nlohmann::json summary(const StreetStatistics& s) {
-    double mean_degree = 0.0;
-    for (int d = 0; d < kDegreeBins; ++d) mean_degree += d * s.degree_histogram[static_cast<std::size_t>(d)];
-    double stars = 0.0;
-    for (int d = 5; d < kDegreeBins; ++d) stars += s.degree_histogram[static_cast<std::size_t>(d)];
-    return {{"vertices", s.vertices},
-            {"junctions", s.junctions},
-            {"dead_end_share", s.degree_histogram[1]},
-            {"degree2_share", s.degree_histogram[2]},
-            {"star_share", stars},
-            {"right_angle_share", s.right_angle_share},
-            {"through_share", s.through_share},
-            {"circuity", std::isfinite(s.circuity) ? nlohmann::json(s.circuity) : nlohmann::json(nullptr)},
-            {"edges", s.edges},
-            {"mean_degree", mean_degree},
-            {"median_edge_length_m", median(s.edge_lengths_m)},
-            {"orientation_entropy", s.orientation_entropy},
-            {"orientation_order", s.orientation_order},
-            {"blocks", s.block_areas_m2.size()},
-            {"median_block_area_m2", median(s.block_areas_m2)}};
-}
-
 } // namespace
 
 StreetStatistics street_statistics(const GeometricGraph& g) {
@@ -223,21 +195,6 @@ NetworkDistances network_distances(const StreetStatistics& a, const StreetStatis
     d.block_area = kolmogorov_smirnov(a.block_areas_m2, b.block_areas_m2);
     d.junction_angle = kolmogorov_smirnov(a.junction_angles_deg, b.junction_angles_deg);
     return d;
-}
-
-nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b) {
-    const StreetStatistics sa = street_statistics(a);
-    const StreetStatistics sb = street_statistics(b);
-    const NetworkDistances d = network_distances(sa, sb);
-    return {{"distances",
-             {{"degree", d.degree},
-              {"edge_length", d.edge_length},
-              {"orientation", d.orientation},
-              {"block_area", d.block_area},
-              {"mean", d.mean()},
-              {"junction_angle", d.junction_angle}}},
-            {"a", summary(sa)},
-            {"b", summary(sb)}};
 }
 
 } // namespace ggg

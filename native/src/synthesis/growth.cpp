@@ -11,28 +11,26 @@
 #include <string>
 #include <unordered_map>
 
-#include <boost/geometry.hpp>
-#include <boost/geometry/index/rtree.hpp>
 
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/error.hpp"
-#include "ggg/plane_geometry.hpp"
+#include "ggg/graph/plane_geometry.hpp"
+#include "ggg/graph/spatial_index.hpp"
 #include "ggg/measures/network_comparison.hpp"
-#include "ggg/rewriting.hpp"
+#include "ggg/grammar/rewriting.hpp"
 #include "ggg/synthesis/street_hierarchy.hpp"
 #include "street_tracing.hpp"
 
 namespace ggg {
 namespace {
 
-namespace bg = boost::geometry;
-namespace bgi = boost::geometry::index;
-using Point = bg::model::point<double, 2, bg::cs::cartesian>;
-using Box = bg::model::box<Point>;
-using PointEntry = std::pair<Point, VertexId>;
-using SegmentEntry = std::pair<Box, EdgeId>;
-
-Point point(const Vec2& p) { return {p.x(), p.y()}; }
+namespace bg = spatial::bg;
+namespace bgi = spatial::bgi;
+using spatial::Box;
+using spatial::Point;
+using spatial::point;
+using PointEntry = spatial::VertexEntry;
+using SegmentEntry = spatial::EdgeEntry;
 
 // A rule derived all the way to streets, at unit size: what one placement adds.
 struct Prototype {
@@ -289,12 +287,7 @@ private:
         for (std::size_t v = 0; v < g_.vertex_count(); ++v) vertices_.insert({point(g_.positions[v]), static_cast<VertexId>(v)});
     }
 
-    void index_edge(EdgeId e) {
-        const Vec2* p = g_.geometry_begin(e);
-        Box box(point(p[0]), point(p[0]));
-        for (std::size_t i = 1; i < g_.geometry_size(e); ++i) bg::expand(box, point(p[i]));
-        segments_.insert({box, e});
-    }
+    void index_edge(EdgeId e) { segments_.insert({spatial::edge_box(g_, e), e}); }
 
     bool near_region(const Vec2& p, double border) const { return inside(region_, p) || distance_to_ring(region_, p) <= border; }
 
@@ -413,7 +406,7 @@ private:
         local.origin = g_.origin;
         std::vector<VertexId> global_of;
         std::unordered_map<VertexId, VertexId> local_of;
-        const Box window(Point(middle.x() - reach, middle.y() - reach), Point(middle.x() + reach, middle.y() + reach));
+        const Box window = spatial::around(middle, reach);
         for (auto it = vertices_.qbegin(bgi::intersects(window)); it != vertices_.qend(); ++it) {
             local_of.emplace(it->second, static_cast<VertexId>(local.vertex_count()));
             local.add_vertex(g_.positions[static_cast<std::size_t>(it->second)]);
@@ -585,7 +578,7 @@ private:
             const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
             VertexId best = -1;
             double best_d = reach;
-            const Box window(Point(p.x() - reach, p.y() - reach), Point(p.x() + reach, p.y() + reach));
+            const Box window = spatial::around(p, reach);
             for (auto it = vertices_.qbegin(bgi::intersects(window)); it != vertices_.qend(); ++it) {
                 const VertexId w = it->second;
                 if (static_cast<std::size_t>(w) == v || adjacency_[static_cast<std::size_t>(w)].size() >= 4) continue;
@@ -652,7 +645,7 @@ private:
     // street that crosses another street (each stage checks as it goes; this catches what
     // their combination lets through) is taken out again, the newer of two grown ones.
     std::size_t remove_crossings() {
-        bgi::rtree<SegmentEntry, bgi::rstar<16>> pieces;
+        spatial::RTree<SegmentEntry> pieces;
         std::vector<std::pair<std::size_t, std::size_t>> piece_of; // (edge, piece)
         for (std::size_t e = 0; e < g_.edge_count(); ++e) {
             const Vec2* p = g_.geometry_begin(static_cast<EdgeId>(e));
@@ -925,8 +918,8 @@ private:
     int depth_ = 1;
     std::size_t base_vertices_ = 0, base_edges_ = 0;
     std::vector<std::vector<VertexId>> adjacency_;
-    bgi::rtree<PointEntry, bgi::rstar<16>> vertices_;
-    bgi::rtree<SegmentEntry, bgi::rstar<16>> segments_;
+    spatial::RTree<PointEntry> vertices_;
+    spatial::RTree<SegmentEntry> segments_;
     std::vector<FrontierEdge> frontier_;
     Vec2 centre_ = Vec2::Zero();
     bool grid_city_ = false;

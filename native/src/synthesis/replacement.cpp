@@ -7,8 +7,8 @@
 #include <unordered_map>
 
 #include "ggg/error.hpp"
-#include "ggg/grammar.hpp"
-#include "ggg/rewriting.hpp"
+#include "ggg/grammar/grammar.hpp"
+#include "ggg/grammar/rewriting.hpp"
 
 namespace ggg {
 

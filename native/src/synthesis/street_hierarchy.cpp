@@ -11,19 +11,18 @@
 #include <unordered_map>
 #include <vector>
 
-#include <boost/geometry.hpp>
-#include <boost/geometry/index/rtree.hpp>
 
 #include "ggg/error.hpp"
-#include "ggg/plane_geometry.hpp"
-#include "ggg/highway.hpp"
+#include "ggg/graph/plane_geometry.hpp"
+#include "ggg/graph/road_class.hpp"
+#include "ggg/graph/spatial_index.hpp"
 
 namespace ggg {
 
 namespace {
 
-namespace bg = boost::geometry;
-namespace bgi = boost::geometry::index;
+namespace bg = spatial::bg;
+namespace bgi = spatial::bgi;
 
 bool main_road_class(HighwayClass c) {
     return highway_rank(c) <= highway_rank(HighwayClass::unclassified) && c != HighwayClass::motorway_link &&
@@ -66,9 +65,7 @@ public:
         for (std::size_t e = 0; e < g_.edge_count(); ++e) {
             const Vec2* p = g_.geometry_begin(static_cast<EdgeId>(e));
             for (std::size_t k = 0; k + 1 < g_.geometry_size(static_cast<EdgeId>(e)); ++k) {
-                Box box(point(p[k]), point(p[k]));
-                bg::expand(box, point(p[k + 1]));
-                segments.push_back({box, {e, k}});
+                segments.push_back({around(p[k], p[k + 1], 0.0), {e, k}});
             }
         }
         segments_ = SegmentTree(segments.begin(), segments.end());
@@ -90,18 +87,14 @@ public:
     }
 
 private:
-    using Point = bg::model::point<double, 2, bg::cs::cartesian>;
-    using Box = bg::model::box<Point>;
-    using PointEntry = std::pair<Point, VertexId>;
-    using SegmentEntry = std::pair<Box, std::pair<std::size_t, std::size_t>>;
-    using VertexTree = bgi::rtree<PointEntry, bgi::rstar<16>>;
-    using SegmentTree = bgi::rtree<SegmentEntry, bgi::rstar<16>>;
+    using Box = spatial::Box;
+    using PointEntry = spatial::VertexEntry;
+    using SegmentEntry = std::pair<Box, std::pair<std::size_t, std::size_t>>; // (edge, piece of its polyline)
+    using VertexTree = spatial::RTree<PointEntry>;
+    using SegmentTree = spatial::RTree<SegmentEntry>;
 
-    static Point point(const Vec2& p) { return {p.x(), p.y()}; }
-    static Box around(const Vec2& p, const Vec2& q, double margin) {
-        return Box(Point(std::min(p.x(), q.x()) - margin, std::min(p.y(), q.y()) - margin),
-                   Point(std::max(p.x(), q.x()) + margin, std::max(p.y(), q.y()) + margin));
-    }
+    static spatial::Point point(const Vec2& p) { return spatial::point(p); }
+    static Box around(const Vec2& p, const Vec2& q, double margin) { return spatial::around(p, q, margin); }
 
     const GeometricGraph& g_;
     std::size_t first_;

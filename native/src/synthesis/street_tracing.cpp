@@ -8,23 +8,21 @@
 #include <queue>
 #include <tuple>
 
-#include <boost/geometry.hpp>
-#include <boost/geometry/index/rtree.hpp>
 
-#include "ggg/highway.hpp"
-#include "ggg/plane_geometry.hpp"
+#include "ggg/graph/road_class.hpp"
+#include "ggg/graph/plane_geometry.hpp"
+#include "ggg/graph/spatial_index.hpp"
 
 namespace ggg::growth_detail {
 namespace {
 
-namespace bg = boost::geometry;
-namespace bgi = boost::geometry::index;
-using Point = bg::model::point<double, 2, bg::cs::cartesian>;
-using Box = bg::model::box<Point>;
-using PointEntry = std::pair<Point, VertexId>;
-using SegmentEntry = std::pair<Box, EdgeId>;
-
-Point point(const Vec2& p) { return {p.x(), p.y()}; }
+namespace bg = spatial::bg;
+namespace bgi = spatial::bgi;
+using spatial::Box;
+using spatial::Point;
+using spatial::point;
+using PointEntry = spatial::VertexEntry;
+using SegmentEntry = spatial::EdgeEntry;
 
 double angle_of(const Vec2& d) { return std::atan2(d.y(), d.x()); }
 Vec2 unit(double angle) { return {std::cos(angle), std::sin(angle)}; }
@@ -263,12 +261,7 @@ private:
         expected_streets_ = std::max(1.0, 2.0 * std::abs(area) / 2.0 / (typical_ * typical_));
     }
 
-    void index_edge(EdgeId e) {
-        const Vec2* p = g_.geometry_begin(e);
-        Box box(point(p[0]), point(p[0]));
-        for (std::size_t i = 1; i < g_.geometry_size(e); ++i) bg::expand(box, point(p[i]));
-        segments_.insert({box, e});
-    }
+    void index_edge(EdgeId e) { segments_.insert({spatial::edge_box(g_, e), e}); }
 
     std::size_t degree(VertexId v) const { return adjacency_[static_cast<std::size_t>(v)].size(); }
 
@@ -505,7 +498,7 @@ private:
     // add up. Local, so that a grid district and a winding one next to it each keep their own.
     std::optional<double> local_grid(const Vec2& p) const {
         const double r = 3.0 * typical_;
-        const Box window(Point(p.x() - r, p.y() - r), Point(p.x() + r, p.y() + r));
+        const Box window = spatial::around(p, r);
         double c = 0.0, sn = 0.0, total = 0.0;
         for (auto it = segments_.qbegin(bgi::intersects(window)); it != segments_.qend(); ++it) {
             const EdgeId e = it->second;
@@ -748,7 +741,7 @@ private:
     std::optional<VertexId> nearest_vertex(const Vec2& p, double within, VertexId besides) const {
         std::optional<VertexId> best;
         double best_d = within;
-        const Box window(Point(p.x() - within, p.y() - within), Point(p.x() + within, p.y() + within));
+        const Box window = spatial::around(p, within);
         for (auto it = vertices_.qbegin(bgi::intersects(window)); it != vertices_.qend(); ++it) {
             const VertexId w = it->second;
             if (w == besides || degree(w) == 0) continue;
@@ -766,7 +759,7 @@ private:
     std::optional<Near> nearest_street(const Vec2& p, double within, VertexId besides) const {
         std::optional<Near> best;
         double best_d = within;
-        const Box window(Point(p.x() - within, p.y() - within), Point(p.x() + within, p.y() + within));
+        const Box window = spatial::around(p, within);
         for (auto it = segments_.qbegin(bgi::intersects(window)); it != segments_.qend(); ++it) {
             const EdgeId e = it->second;
             const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
@@ -826,8 +819,8 @@ private:
     const double crowd_ = 0.5;
     const double grid_tolerance_ = M_PI / 4;
     std::vector<std::vector<EdgeId>> adjacency_;
-    bgi::rtree<PointEntry, bgi::rstar<16>> vertices_;
-    bgi::rtree<SegmentEntry, bgi::rstar<16>> segments_;
+    spatial::RTree<PointEntry> vertices_;
+    spatial::RTree<SegmentEntry> segments_;
     std::priority_queue<Street, std::vector<Street>, Later> queue_;
     std::size_t order_ = 0;
 };

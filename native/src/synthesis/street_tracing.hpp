@@ -15,7 +15,7 @@
 #include <random>
 #include <vector>
 
-#include "ggg/geometric_graph.hpp"
+#include "ggg/graph/geometric_graph.hpp"
 #include "ggg/progress.hpp"
 
 namespace ggg::growth_detail {

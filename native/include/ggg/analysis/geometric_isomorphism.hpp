@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "ggg/analysis/pattern.hpp"
-#include "ggg/similarity.hpp"
+#include "ggg/graph/similarity.hpp"
 
 namespace ggg {
 

@@ -27,7 +27,7 @@
 
 #include "ggg/analysis/geometric_isomorphism.hpp"
 #include "ggg/analysis/pattern.hpp"
-#include "ggg/geometric_graph.hpp"
+#include "ggg/graph/geometric_graph.hpp"
 #include "ggg/progress.hpp"
 
 namespace ggg {

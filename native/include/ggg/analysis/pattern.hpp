@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "ggg/geometric_graph.hpp"
-#include "ggg/similarity.hpp"
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/graph/similarity.hpp"
 
 namespace ggg {
 

@@ -4,10 +4,10 @@
 // hierarchy, for showing how a city was encoded (paper Fig. 13).
 #include <vector>
 
-#include "ggg/geometric_graph.hpp"
-#include "ggg/grammar.hpp"
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/grammar/grammar.hpp"
 #include "ggg/progress.hpp"
-#include "ggg/rewriting.hpp"
+#include "ggg/grammar/rewriting.hpp"
 
 namespace ggg {
 

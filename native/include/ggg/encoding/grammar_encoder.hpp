@@ -24,11 +24,9 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "ggg/analyzer.hpp"
-#include "ggg/geometric_graph.hpp"
-#include "ggg/grammar.hpp"
+#include "ggg/analysis/analyzer.hpp"
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/grammar/grammar.hpp"
 #include "ggg/progress.hpp"
 
 namespace ggg {
@@ -111,11 +109,6 @@ struct LearnResult {
     std::vector<LevelReport> levels;
     double analysis_seconds = 0.0;
     double encoding_seconds = 0.0; // building rules, the graphs of each level, residuals, embedding
-    // Sizes of what both sides hold, written by the same JSON writer without indentation:
-    // the input as columns of vertex positions (rounded to the quantum), edges and road classes,
-    // and the grammar file as write_grammar writes it. See docs/learning.md.
-    std::size_t original_bytes = 0;
-    std::size_t encoded_bytes = 0;
     RoundTrip roundtrip; // decode(grammar) against the input
     std::size_t axiom_edges = 0; // of the last level's graph (the axiom with its nonterminals' edges)
     // A level's analysis ran out of the time or memory budget (DetectionOptions::max_seconds,
@@ -131,12 +124,5 @@ struct LearnResult {
 // without edges.
 LearnResult learn_grammar(const GeometricGraph& graph, const LearnOptions& options = {},
                           const ProgressCallback& progress = {});
-
-// The figures of a learning as `ggg learn` prints them (docs/learning.md): input, mode,
-// rules, instances, levels, axiom, seconds (analysis, encoding), bytes, roundtrip, per_level.
-nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& result);
-
-// The size measure of LearnResult::original_bytes for any graph.
-std::size_t graph_structure_bytes(const GeometricGraph& graph, double quantum_m = LearnOptions{}.quantum_m);
 
 } // namespace ggg

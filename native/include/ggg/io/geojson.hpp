@@ -10,8 +10,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "ggg/geometric_graph.hpp"
-#include "ggg/topology.hpp"
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/osm/topology.hpp"
 
 namespace ggg {
 

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "ggg/grammar.hpp"
+#include "ggg/grammar/grammar.hpp"
 
 namespace ggg {
 

@@ -3,8 +3,8 @@
 // chosen by the file name and, for JSON, by its content.
 #include <string>
 
-#include "ggg/geometric_graph.hpp"
-#include "ggg/osm_import.hpp"
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/osm/osm_import.hpp"
 
 namespace ggg {
 

@@ -3,11 +3,32 @@
 // CLI prints and the Python module returns as a dict (docs/cli.md lists them).
 #include <nlohmann/json.hpp>
 
+#include "ggg/encoding/grammar_encoder.hpp"
+#include "ggg/grammar/grammar.hpp"
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/measures/network_comparison.hpp"
 #include "ggg/synthesis/growth.hpp"
 
 namespace ggg {
 
 // Every field of GrowReport, flat: "placements", "rejected_crossing", "traced_streets", ...
 nlohmann::json growth_report_json(const GrowReport& report);
+
+// The figures of a learning as `ggg learn` prints them (docs/learning.md): input, mode,
+// rules, instances, levels, axiom, seconds (analysis, encoding), bytes, roundtrip, per_level.
+nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& result);
+
+// The sizes `ggg learn` compares (docs/learning.md#size), both written by the same JSON
+// writer without indentation: a graph as columns of what a grammar keeps (positions rounded
+// to `quantum_m`, edges, road classes), and a grammar file as write_grammar writes it.
+std::size_t graph_structure_bytes(const GeometricGraph& graph, double quantum_m = LearnOptions{}.quantum_m);
+std::size_t grammar_bytes(const Grammar& grammar);
+
+// `ggg compare`'s output: {"distances": {degree, edge_length, orientation, block_area, mean,
+// junction_angle}, "a": summary, "b": summary} with vertices, edges, mean degree, median edge
+// length, orientation entropy and order, blocks and median block area, and the structure:
+// junctions, dead_end_share, degree2_share, star_share (of the vertices), right_angle_share
+// (of the junction angles), through_share (of the junctions) and circuity of each.
+nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b);
 
 } // namespace ggg

@@ -18,9 +18,8 @@
 #include <cstddef>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 
-#include "ggg/geometric_graph.hpp"
+#include "ggg/graph/geometric_graph.hpp"
 
 namespace ggg {
 
@@ -61,11 +60,5 @@ struct NetworkDistances {
 
 NetworkDistances network_distances(const StreetStatistics& a, const StreetStatistics& b);
 
-// `ggg compare`'s output: {"distances": {degree, edge_length, orientation, block_area, mean,
-// junction_angle}, "a": summary, "b": summary} with vertices, edges, mean degree, median edge
-// length, orientation entropy and order, blocks and median block area, and the structure:
-// junctions, dead_end_share, degree2_share, star_share (of the vertices), right_angle_share
-// (of the junction angles), through_share (of the junctions) and circuity of each.
-nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b);
 
 } // namespace ggg

@@ -21,8 +21,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "ggg/geometric_graph.hpp"
-#include "ggg/grammar.hpp"
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/grammar/grammar.hpp"
 #include "ggg/progress.hpp"
 
 namespace ggg {

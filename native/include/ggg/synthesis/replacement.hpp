@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "ggg/analysis/pattern.hpp"
-#include "ggg/geometric_graph.hpp"
-#include "ggg/highway.hpp"
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/graph/road_class.hpp"
 
 namespace ggg {
 

@@ -11,7 +11,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "ggg/geometric_graph.hpp"
+#include "ggg/graph/geometric_graph.hpp"
 
 namespace ggg {
 

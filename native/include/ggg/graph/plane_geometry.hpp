@@ -1,0 +1,109 @@
+#pragma once
+// Plane geometry that the synthesis stages share. A region is a simple polygon in a graph's
+// metres, its corners in order (either direction), not closed (the last corner is not a copy
+// of the first).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/graph/similarity.hpp"
+
+namespace ggg {
+
+inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Even-odd rule: a point on the border may count either way.
+inline bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
+    bool in = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const Vec2& a = ring[i];
+        const Vec2& b = ring[j];
+        if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
+    }
+    return in;
+}
+
+// Distance from p to the polygon's border (not 0 inside).
+inline double distance_to_ring(const std::vector<Vec2>& ring, const Vec2& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const Vec2 d = ring[i] - ring[j];
+        const double t = std::clamp((p - ring[j]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+        best = std::min(best, (ring[j] + t * d - p).norm());
+    }
+    return best;
+}
+
+inline double distance_to_segment(const Vec2& x, const Vec2& p, const Vec2& q) {
+    const Vec2 d = q - p;
+    const double t = std::clamp((x - p).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+    return (p + t * d - x).norm();
+}
+
+// Where segment pq meets segment ab: (t along pq, u along ab), both in [0, 1], or nothing
+// when they are parallel or miss each other.
+inline std::optional<std::pair<double, double>> segment_meeting(const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b) {
+    const Vec2 r = q - p, s = b - a;
+    const double d = cross(r, s);
+    if (std::abs(d) <= 1e-12 * r.norm() * s.norm()) return std::nullopt;
+    const double t = cross(a - p, s) / d;
+    const double u = cross(a - p, r) / d;
+    if (t < 0.0 || t > 1.0 || u < 0.0 || u > 1.0) return std::nullopt;
+    return std::pair{t, u};
+}
+
+// True when segments ab and cd cross or touch anywhere but at an end they share.
+inline bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    const double eps = 1e-9 * std::max({(b - a).norm(), (d - c).norm(), 1.0});
+    auto same = [&](const Vec2& p, const Vec2& q) { return (p - q).norm() <= eps; };
+    const bool shared = same(a, c) || same(a, d) || same(b, c) || same(b, d);
+    const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
+    const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+    if (((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))) return true;
+    if (shared) return false; // touching at a common end is how streets meet
+    auto on = [&](const Vec2& p, const Vec2& q, const Vec2& r) { // r on segment pq
+        return std::abs(cross(q - p, r - p)) <= eps * (q - p).norm() && (r - p).dot(r - q) <= 0;
+    };
+    return on(a, b, c) || on(a, b, d) || on(c, d, a) || on(c, d, b);
+}
+
+// The area of the block to the left of the street u -> v, walking round it by always taking
+// the sharpest left turn; 0 when the walk does not come back within `max_steps` streets (a
+// block too large to matter, or one that the streets known here do not close) or goes
+// round the outside (clockwise). `neighbours(w)` lists the streets at w.
+template <class Neighbours>
+double block_left_of(const std::vector<Vec2>& positions, Neighbours&& neighbours, VertexId u, VertexId v, std::size_t max_steps = 64) {
+    const VertexId start_u = u, start_v = v;
+    double twice_area = 0.0;
+    for (std::size_t step = 0; step < max_steps; ++step) {
+        const Vec2& pu = positions[static_cast<std::size_t>(u)];
+        const Vec2& pv = positions[static_cast<std::size_t>(v)];
+        twice_area += cross(pu, pv);
+        // At v, the street that turns most to the left, i.e. the first clockwise from v -> u.
+        const Vec2 back = pu - pv;
+        const double back_angle = std::atan2(back.y(), back.x());
+        VertexId next = -1;
+        double best = 0.0;
+        for (VertexId w : neighbours(v)) {
+            const Vec2 d = positions[static_cast<std::size_t>(w)] - pv;
+            double turn = back_angle - std::atan2(d.y(), d.x());
+            while (turn <= 1e-12) turn += 2.0 * M_PI;
+            while (turn > 2.0 * M_PI + 1e-12) turn -= 2.0 * M_PI;
+            if (next < 0 || turn < best) {
+                next = w;
+                best = turn;
+            }
+        }
+        if (next < 0) return 0.0;
+        u = v;
+        v = next;
+        if (u == start_u && v == start_v) return twice_area > 0 ? 0.5 * twice_area : 0.0;
+    }
+    return 0.0;
+}
+
+} // namespace ggg
