@@ -1,6 +1,8 @@
-# Labels every test case of ggg_tests `fast` or `slow` (ctest -L fast, ctest -L slow). ctest
-# includes this file after the test cases that gtest_discover_tests found (their names are in
-# ggg_tests_TESTS); see native/tests/CMakeLists.txt.
+# Labels every test case of ggg_tests `fast` or `slow` (ctest -L fast, ctest -L slow), and
+# `unit`, `corpus` or `cli` by what it needs (ggg_corpus_tests and ggg_cli_tests, from
+# test_kinds.cmake; a test that needs both is `corpus` and `cli`). ctest includes this file
+# after the test cases that gtest_discover_tests found (their names are in ggg_tests_TESTS);
+# see native/tests/CMakeLists.txt.
 #
 # `slow` are the cases that take more than about a minute in the sanitizers' build
 # (scripts/sanitize.sh, which runs only the `fast` ones; docs/reliability.md): learning and
@@ -28,5 +30,22 @@ foreach(ggg_test IN LISTS ggg_tests_TESTS)
       set(ggg_label slow)
     endif()
   endif()
-  set_tests_properties("${ggg_test}" PROPERTIES LABELS ${ggg_label})
+  # Suite.Name, also of a parameterised case (Instance/Suite.Name/parameter).
+  set(ggg_case "${ggg_test}")
+  if(ggg_test MATCHES "^[A-Za-z0-9_]+/([A-Za-z0-9_]+\\.[A-Za-z0-9_]+)/")
+    set(ggg_case "${CMAKE_MATCH_1}")
+  endif()
+  set(ggg_kinds "")
+  list(FIND ggg_corpus_tests "${ggg_case}" ggg_at)
+  if(ggg_at GREATER -1)
+    list(APPEND ggg_kinds corpus)
+  endif()
+  list(FIND ggg_cli_tests "${ggg_case}" ggg_at)
+  if(ggg_at GREATER -1)
+    list(APPEND ggg_kinds cli)
+  endif()
+  if(NOT ggg_kinds)
+    set(ggg_kinds unit)
+  endif()
+  set_tests_properties("${ggg_test}" PROPERTIES LABELS "${ggg_label};${ggg_kinds}")
 endforeach()

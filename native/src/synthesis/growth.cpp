@@ -714,6 +714,7 @@ private:
             const auto& es = at[v];
             if (es.size() != 2 || es[0] == es[1]) continue;
             if (static_cast<std::size_t>(es[0]) < base_edges_ || static_cast<std::size_t>(es[1]) < base_edges_) continue;
+            // A change of class is kept as a vertex, as the city's data keeps it.
             if (g_.edge_highway[static_cast<std::size_t>(es[0])] != g_.edge_highway[static_cast<std::size_t>(es[1])]) continue;
             bend[v] = 1;
             ++bends;

@@ -56,6 +56,9 @@ struct Branch {
     double length = 0.0;
     std::vector<Vec2> shape;
     HighwayClass highway = HighwayClass::residential;
+    // Of the class of the street the example was seen from: a street that goes on keeps its
+    // own class (the example only says that it does not change there).
+    bool keeps_class = false;
 };
 
 // One of the city's junctions seen from one of its streets: what leaves it (nothing, at a dead end).
@@ -211,6 +214,7 @@ private:
                     Branch branch;
                     branch.length = chord;
                     branch.highway = city.edge_highway[static_cast<std::size_t>(out)];
+                    branch.keeps_class = branch.highway == city.edge_highway[static_cast<std::size_t>(in)];
                     const double heading = angle_of(far - pc);
                     branch.turn = wrap(heading - arriving);
                     const Vec2* p = city.geometry_begin(out);
@@ -670,8 +674,8 @@ private:
             if (mirror) {
                 for (Vec2& q : next.shape) q.y() = -q.y();
             }
-            next.highway = b.highway;
-            next.main = main_class(b.highway);
+            next.highway = b.keeps_class ? s.highway : b.highway;
+            next.main = main_class(next.highway);
             next.generation = s.generation + 1;
             next.order = order_++;
             queue_.push(std::move(next));
@@ -710,7 +714,7 @@ private:
             }
             const Example& example = example_for(s.main);
             const bool mirror = std::bernoulli_distribution(0.5)(rng_);
-            if (bends < 16 && example.branches.size() == 1 && example.branches.front().highway == s.highway) {
+            if (bends < 16 && example.branches.size() == 1 && (example.branches.front().keeps_class || example.branches.front().highway == s.highway)) {
                 const Branch& b = example.branches.front();
                 Street on = s;
                 on.heading = angle_of(line.back() - line[line.size() - 2]) + (mirror ? -b.turn : b.turn);

@@ -96,7 +96,7 @@ struct GrowReport {
     std::size_t closing_edges = 0;      // dead ends joined at the end to a vertex ahead
     std::size_t t_junctions = 0;        // dead ends joined at the end to a grown street ahead, split there
     std::size_t pruned_stubs = 0;       // short grown dead ends cut off at the end
-    std::size_t dissolved_vertices = 0; // grown vertices between two grown streets of one class, made bends of one street
+    std::size_t dissolved_vertices = 0; // grown vertices between two grown streets of one class (and nothing else), made bends of one street
     std::size_t removed_crossing_streets = 0; // grown streets taken out again because they crossed a street
     std::size_t main_road_routes = 0;   // main roads joined through the grown streets
     std::size_t raised_streets = 0;     // grown streets on those routes, now of a main road's class
