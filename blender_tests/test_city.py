@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 
 from conftest import import_roads, snapshot, write_osm
-from road_grammar.core.city import FLOOR_HEIGHT_M, road_widths
 from road_grammar.core.names import CITY_KEY, CITY_PART_KEY
 from road_grammar.data import graph_edit
 from road_grammar.display import city
@@ -78,7 +77,7 @@ def test_build_city_makes_the_planned_objects(town, ggg):
 
     columns = graph_edit.MeshGraph(town)
     graph = columns.graph(ggg)
-    widths = road_widths(columns, ggg, graph)
+    widths = ggg.road_widths(graph)
     plan = ggg.city_layout(graph, half_widths=widths / 2.0, sidewalk_m=3.0, seed=3)
     faces = ggg.planar_faces(graph)
     assert len(plan["faces"]["face_area"]) == len(faces["face_area"]) == collection["faces"]
@@ -103,7 +102,8 @@ def test_build_city_makes_the_planned_objects(town, ggg):
     positions, polygons = _evaluated_positions(parts["buildings"])
     assert polygons > 4 * collection["buildings"]  # roof + at least 4 walls each
     height = positions[:, 2] - city.YARD_Z
-    assert height.max() > 3.0 and height.max() < 60 * FLOOR_HEIGHT_M + 2.0
+    floor = ggg.option_defaults()["city"]["floor_height_m"]
+    assert height.max() > 3.0 and height.max() < 60 * floor + 2.0
     offsets, points = graph.edge_geometry()
     owner = np.repeat(np.arange(graph.edge_count), np.diff(offsets))
     last = np.r_[offsets[1:] - 1]

@@ -28,3 +28,11 @@ def test_settings_default_to_the_library(ggg, group, properties):
         assert blender[name] == pytest.approx(library[name]), "{} ({}): Blender {} vs the library {}".format(
             name, group, blender[name], library[name])
 
+
+
+def test_city_settings_default_to_the_library(ggg):
+    from road_grammar.data.preferences import DEFAULT_LANE_WIDTH
+    from road_grammar.properties.city import ROADS_PG_city
+    library = ggg.option_defaults()["city"]
+    assert DEFAULT_LANE_WIDTH == pytest.approx(library["lane_width"])
+    assert _defaults(ROADS_PG_city.bl_rna)["sidewalk_m"] == pytest.approx(library["sidewalk_m"])

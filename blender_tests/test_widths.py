@@ -6,7 +6,6 @@ import pytest
 
 from conftest import edge_attribute, evaluated_mesh_arrays, import_roads, road_objects, write_osm
 from road_grammar.core.polylines import polyline_segments
-from road_grammar.core.widths import road_widths
 from road_grammar.display.nodes import input_sockets
 from road_grammar.data import preferences as addon_preferences
 
@@ -25,16 +24,17 @@ def _parallel_roads(path, tagged):
     return write_osm(path, nodes, ways)
 
 
-def test_road_widths_rule():
-    classes_default = np.array([10.0, 6.0, 4.0])
-    widths = road_widths(
-        highway=[0, 1, 2, 1, 2],
-        width_tag=[7.5, np.nan, np.nan, 0.0, np.nan],
-        lanes=[4, 2, 0, 0, 0],
-        class_widths=classes_default,
-        lane_width=3.0,
-    )
-    np.testing.assert_allclose(widths, [7.5, 6.0, 4.0, 6.0, 4.0])
+def test_road_widths_rule(ggg):
+    """The library's rule, as the add-on calls it: tag, else lanes, else the class's width."""
+    classes = list(ggg.highway_classes())
+    positions = np.array([[0.0, 0.0], [100.0, 0.0], [0.0, 50.0], [100.0, 50.0], [0.0, 100.0], [100.0, 100.0]])
+    graph = ggg.Graph.from_arrays(positions, np.array([[0, 1], [2, 3], [4, 5]]),
+                                  edge_highway=np.array([classes.index(c) for c in ("primary", "residential", "path")]),
+                                  edge_width=np.array([7.5, np.nan, np.nan]), edge_lanes=np.array([4, 2, 0]))
+    table = [10.0] * len(classes)
+    table[classes.index("path")] = 2.5
+    np.testing.assert_allclose(ggg.road_widths(graph, class_widths=table, lane_width=3.0), [7.5, 6.0, 2.5])
+    np.testing.assert_allclose(ggg.road_widths(graph)[2], ggg.default_widths()["path"])
 
 
 def test_widths_in_the_imported_meshes(tmp_path, ggg, prefs):

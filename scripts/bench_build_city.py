@@ -33,7 +33,6 @@ def main():
     sys.path.insert(0, str(REPO / "addon"))
     addon_utils.enable("road_grammar", default_set=True)
     from road_grammar.core import native
-    from road_grammar.core.city import road_widths
     from road_grammar.data import graph_edit
     from road_grammar.display import city
 
@@ -47,7 +46,7 @@ def main():
         graph_obj = bpy.context.active_object
         columns = graph_edit.MeshGraph(graph_obj)
         graph = columns.graph(ggg)
-        widths = road_widths(columns, ggg, graph)
+        widths = ggg.road_widths(graph)
         start = time.perf_counter()
         layout = ggg.city_layout(graph, half_widths=widths / 2.0)
         native_s = time.perf_counter() - start

@@ -50,12 +50,6 @@ def test_piece_class_codes():
     assert class_names(Classes, [0, 2, 9, -1], 4) == ["motorway", "residential", "residential", "motorway"]
 
 
-def test_road_widths():
-    result = widths.road_widths(highway=[0, 1, 2, 2, 5], width_tag=[7.5, np.nan, np.nan, 0.0, np.nan],
-                                lanes=[0, 2, 0, 0, 0], class_widths=[10.0, 8.0, 6.0], lane_width=3.25)
-    np.testing.assert_allclose(result, [7.5, 6.5, 6.0, 6.0, 6.0])
-
-
 def test_class_default_widths():
     result = widths.class_default_widths([0, 1, 7], {"motorway": 12.0}, ["motorway", "path"])
     assert result.tolist() == [12.0, 6.0, 6.0]

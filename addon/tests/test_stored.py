@@ -1,4 +1,4 @@
-"""core.analysis (an analysis as it is stored), core.city, core.flythrough and core.levels."""
+"""core.analysis (an analysis as it is stored), core.flythrough and core.levels."""
 
 import json
 from types import SimpleNamespace
@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from road_grammar.core import city, flythrough
+from road_grammar.core import flythrough
 from road_grammar.core.analysis import (NON_OVERLAPPING, OCCURRENCES, PATTERN_EDGES, StoredAnalysis, options_json,
                                         same_occurrences)
 from road_grammar.core.levels import LevelView
@@ -41,26 +41,6 @@ def test_stored_analysis():
 def test_options_json():
     text = options_json({"grid": (12, 10), "seed": np.array([3, 4]), "cut": np.float64(0.8), "full": False})
     assert json.loads(text) == {"grid": [12, 10], "seed": [3, 4], "cut": 0.8, "full": False}
-
-
-def test_building_heights():
-    offsets = np.array([0, 4, 8, 12])
-    points = np.array([[0, 0]] * 4 + [[500, 0]] * 4 + [[5000, 0]] * 4, dtype=float)
-    heights, tints = city.building_heights(7, points, offsets, [2000.0, 2000.0, 300000.0], (0, 0), 1000.0)
-    again, _tints = city.building_heights(7, points, offsets, [2000.0, 2000.0, 300000.0], (0, 0), 1000.0)
-    np.testing.assert_array_equal(heights, again)
-    assert len(heights) == 3 and np.all(heights >= city.FLOOR_HEIGHT_M) and np.all((tints >= 0) & (tints < 1))
-    assert heights[0] > heights[2]  # the dense centre above the big blocks far out
-    assert city.building_heights(1, np.zeros((0, 2)), [0], [], (0, 0), 1.0)[0].size == 0
-
-
-def test_city_road_widths():
-    classes = SimpleNamespace(default_widths=lambda: {"primary": 10.0, "residential": 6.0},
-                              highway_classes=lambda: ["primary", "residential"])
-    graph = SimpleNamespace(edge_count=3, edge_highway=[0, 1, 1])
-    tagged = SimpleNamespace(columns={"width": np.array([np.nan, 4.0, -1.0])})
-    assert city.road_widths(tagged, classes, graph).tolist() == [10.0, 4.0, 6.0]
-    assert city.road_widths(SimpleNamespace(columns={}), classes, graph).tolist() == [10.0, 6.0, 6.0]
 
 
 def network():

@@ -8,6 +8,8 @@
 #include "common.hpp"
 #include "ggg/analysis/analyzer.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
+#include "ggg/graph/road_widths.hpp"
+#include "ggg/synthesis/city_layout.hpp"
 #include "ggg/error.hpp"
 
 namespace ggg::python {
@@ -229,12 +231,18 @@ void bind_analysis(py::module_& m) {
             l["min_aspect"] = learning.analysis.constraints.min_aspect;
             l["min_leaves"] = learning.analysis.constraints.min_leaves;
             l["min_irregularity"] = learning.analysis.constraints.min_irregularity_deg;
+            py::dict c;
+            c["lane_width"] = RoadWidthRule{}.lane_width_m;
+            c["floor_height_m"] = CityLayoutOptions{}.floor_height_m;
+            c["sidewalk_m"] = CityLayoutOptions{}.sidewalk_m;
             py::dict out;
             out["analysis"] = a;
             out["learning"] = l;
+            out["city"] = c;
             return out;
         },
-        "The library's defaults of the analysis (ggg.analyze, ggg.find_similar) and of learning (ggg.learn), by the\n"
+        "The library's defaults of the analysis (ggg.analyze, ggg.find_similar), learning (ggg.learn) and the city\n"
+        "(ggg.road_widths, ggg.city_layout), by the\n"
         "names of their keyword arguments (grid as angle_cells and distance_cells): the values the CLI, Python and\n"
         "the Blender add-on all start from.");
 }

@@ -11,6 +11,7 @@
 #include <pybind11/stl.h>
 
 #include "ggg/synthesis/city_layout.hpp"
+#include "ggg/graph/road_widths.hpp"
 #include "ggg/error.hpp"
 #include "ggg/io/graph_info.hpp"
 #include "ggg/io/grammar_file.hpp"
@@ -255,6 +256,18 @@ PYBIND11_MODULE(ggg, m) {
         for (int c = 0; c < ggg::highway_class_count; ++c) ranks.push_back(ggg::highway_rank(static_cast<ggg::HighwayClass>(c)));
         return ranks;
     }, "Importance rank per class code (1 = most important).");
+    m.def(
+        "road_widths",
+        [](const ggg::GeometricGraph& g, std::optional<std::vector<double>> class_widths, double lane_width) {
+            ggg::RoadWidthRule rule;
+            rule.lane_width_m = lane_width;
+            if (class_widths) rule.class_widths_m = *class_widths;
+            return column(ggg::road_widths(g, rule));
+        },
+        py::arg("graph"), py::arg("class_widths") = py::none(), py::arg("lane_width") = ggg::RoadWidthRule{}.lane_width_m,
+        "Width in metres of each edge (M,): its `width` tag where that is a positive number, else its lanes times\n"
+        "lane_width, else the width of its class (class_widths: one per class code, as ggg.highway_classes(); default:\n"
+        "ggg.default_widths()). The rule of the imported road surfaces and of ggg.city_layout.");
     m.def("default_widths", [] {
         py::dict widths;
         for (int c = 0; c < ggg::highway_class_count; ++c) {
@@ -430,8 +443,8 @@ PYBIND11_MODULE(ggg, m) {
 
         m.def("city_layout", [face_arrays](const ggg::GeometricGraph& g, std::optional<DoubleArray> half_widths, double sidewalk_m,
                                            double lot_min_m, double lot_max_m, double depth_min_m, double depth_max_m, double gap_m,
-                                           double min_building_area_m2, double max_block_area_m2, double min_yard_area_m2, const py::int_& seed,
-                                           unsigned threads,
+                                           double min_building_area_m2, double max_block_area_m2, double min_yard_area_m2, double floor_height_m,
+                                           const py::int_& seed, unsigned threads,
                                            std::optional<py::function> progress) {
             ggg::CityLayoutOptions options;
             if (half_widths) {
@@ -449,6 +462,7 @@ PYBIND11_MODULE(ggg, m) {
             options.min_building_area_m2 = min_building_area_m2;
             options.max_block_area_m2 = max_block_area_m2;
             options.min_yard_area_m2 = min_yard_area_m2;
+            options.floor_height_m = floor_height_m;
             options.seed = ggg::python::seed_arg(seed);
             options.threads = threads;
             PythonProgress reporter(std::move(progress));
@@ -466,6 +480,8 @@ PYBIND11_MODULE(ggg, m) {
             polygons("yard", layout.yards, "face");
             polygons("building", layout.buildings, "face");
             d["building_depth"] = column(layout.building_depth);
+            d["building_height"] = column(layout.building_height_m);
+            d["building_tint"] = column(layout.building_tint);
             d["empty_blocks"] = layout.empty_blocks;
             py::dict faces;
             face_arrays(layout.faces, faces);
@@ -474,7 +490,7 @@ PYBIND11_MODULE(ggg, m) {
         }, py::arg("graph"), py::arg("half_widths") = py::none(), py::arg("sidewalk_m") = 3.0, py::arg("lot_min_m") = 9.0,
            py::arg("lot_max_m") = 26.0, py::arg("depth_min_m") = 10.0, py::arg("depth_max_m") = 18.0, py::arg("gap_m") = 0.6,
            py::arg("min_building_area_m2") = 30.0, py::arg("max_block_area_m2") = 250000.0, py::arg("min_yard_area_m2") = 400.0,
-           py::arg("seed") = 1, py::arg("threads") = 0, py::arg("progress") = py::none(),
+           py::arg("floor_height_m") = ggg::CityLayoutOptions{}.floor_height_m, py::arg("seed") = 1, py::arg("threads") = 0, py::arg("progress") = py::none(),
            "The ground plan of a 3-D city: road pieces (segment rectangles, bend triangles, junction discs; road_piece 0/1/2,\n"
            "road_edge the edge, for a junction its most important one), block kerb outlines, yards (blocks inset by the\n"
            "sidewalk) and building footprints (lots of seeded frontage in a band along each yard), all as simple\n"

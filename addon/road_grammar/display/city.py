@@ -18,7 +18,7 @@ buildings             extruded from YARD_Z by their `height` attribute
 
 Block and building heights come from a Geometry Nodes modifier ("City Extrude") that
 reads the `height` point attribute, so they can be scaled without rebuilding; the
-building heights follow a seeded rule (``core.city.building_heights``), and the plan is
+building heights follow the seeded rule of ``ggg.city_layout``, and the plan is
 computed before the scene is touched (``core.city.Plan``).
 """
 

@@ -20,7 +20,7 @@ from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
 from bpy.types import Operator
 
 from ..core import flythrough, native
-from ..core.city import CityError, Plan, road_widths
+from ..core.city import CityError, Plan
 from ..core.jobs import StepsJob
 from ..core.names import CITY_PART_KEY
 from ..core.polylines import complete_polylines
@@ -58,7 +58,7 @@ def plan_city(job, ggg, columns, settings):
     raises ggg.Error or CityError (ggg.Cancelled once the user cancelled)."""
     job.step(0.0, "reading the graph")
     graph = columns.graph(ggg)
-    widths = road_widths(columns, ggg, graph)
+    widths = ggg.road_widths(graph)
     plan = Plan(ggg, graph, widths, settings, progress=job.stage(0.02, 1.0))
     job.step(1.0, "done")
     return plan

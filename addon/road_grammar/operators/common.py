@@ -8,7 +8,6 @@ import bpy
 
 from ..core import native
 from ..core.text import plural
-from ..core.widths import road_widths
 from ..data import roads, texts
 from ..data import preferences
 
@@ -63,8 +62,7 @@ def class_widths(context, ggg, graph):
     """The width of each edge of ``graph``: tagged, else by lanes, else its class's in the
     preferences."""
     prefs = preferences.get(context)
-    return road_widths(graph.edge_highway, graph.edge_width, graph.edge_lanes,
-                       preferences.class_width_table(prefs, ggg), prefs.lane_width)
+    return ggg.road_widths(graph, class_widths=preferences.class_width_table(prefs, ggg), lane_width=prefs.lane_width)
 
 
 def isogroup_index_or_report(op, obj):

@@ -7,7 +7,6 @@ from bpy_extras.io_utils import ImportHelper
 
 from ..core import georef, native
 from ..core.names import object_name
-from ..core.widths import road_widths
 from ..data import roads
 from ..data import preferences
 from .common import input_file_or_report
@@ -113,13 +112,8 @@ class ROADS_OT_import_osm(Operator, ImportHelper):
                 return {'CANCELLED'}
 
             classes = list(ggg.highway_classes())
-            widths = road_widths(
-                graph.edge_highway,
-                graph.edge_width,
-                graph.edge_lanes,
-                preferences.class_width_table(prefs, ggg),
-                prefs.lane_width,
-            )
+            widths = ggg.road_widths(graph, class_widths=preferences.class_width_table(prefs, ggg),
+                                     lane_width=prefs.lane_width)
             options = {
                 "highways": highways,
                 "keep_shape_nodes": self.keep_shape_nodes,

@@ -25,8 +25,8 @@
 namespace ggg {
 
 struct CityLayoutOptions {
-    // Half the paved width of each edge in metres (size edge_count()); empty = half the
-    // default width of the edge's class.
+    // Half the paved width of each edge in metres (size edge_count()); empty = half of
+    // road_widths(g) (graph/road_widths.hpp: its width tag, else lanes, else its class).
     std::vector<double> half_widths;
     double sidewalk_m = 3.0;        // kerb to building line
     double lot_min_m = 9.0;         // frontage of a lot along the street
@@ -41,7 +41,8 @@ struct CityLayoutOptions {
     // A yard smaller than this is a traffic island or the middle of a roundabout: no buildings.
     double min_yard_area_m2 = 400.0;
     int disc_sides = 12;            // sides of the polygon around a junction
-    std::uint64_t seed = 1;         // lot frontages and band depths
+    double floor_height_m = 3.2;    // building heights are whole floors of this, plus a roof
+    std::uint64_t seed = 1;         // lot frontages, band depths and building heights
     unsigned threads = 0;           // 0 = hardware concurrency
 };
 
@@ -65,6 +66,12 @@ struct CityLayout {
     PolygonSet yards;                  // blocks inset by the sidewalk; owner = face
     PolygonSet buildings;              // footprints; owner = face
     std::vector<double> building_depth; // depth of the band the lot was cut from (m)
+    // Per building: its height (m) and a facade tint in [0, 1). Floors grow towards the middle
+    // of the network and in small blocks (4 in blocks under 0.3 ha, 1.5 over 25 ha, up to 1.6
+    // times that in the middle), vary from lot to lot, and one lot in a hundred of the densest
+    // blocks is a tower; seeded.
+    std::vector<double> building_height_m;
+    std::vector<double> building_tint;
     PlanarFaces faces;                 // the faces the blocks come from
     std::size_t empty_blocks = 0;      // faces that roads cover completely (islands)
     std::size_t crossing_edges = 0;    // edges crossing another without a vertex (bridges, tunnels)

@@ -64,8 +64,9 @@ struct GrowOptions {
     // tenths of this quantile of the blocks of the grammar's city: the city's smallest
     // blocks are mostly slivers. Learned grammars only, which decode to their city; 0 = any.
     double smallest_block = 0.1;
-    // Join dead ends to a vertex ahead of them within this fraction of the typical edge length.
-    double close_dead_ends = 1.2;
+    // Join dead ends to a vertex ahead of them within this multiple of the typical grown edge
+    // length (grown streets are traced whole, so their edges are long).
+    double close_dead_ends = 1.6;
     // At the end, grown dead ends shorter than this fraction of the typical grown street are
     // cut off (the loose ends of rules' streets that nothing was grown onto); 0 = keep them.
     double prune_stubs = 0.75;
