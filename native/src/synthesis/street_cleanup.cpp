@@ -1,0 +1,195 @@
+// The last stage of growth: the grown streets tidied (see street_cleanup.hpp).
+#include "street_cleanup.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "ggg/graph/plane_geometry.hpp"
+#include "ggg/graph/spatial_index.hpp"
+
+namespace ggg::growth_detail {
+
+namespace bg = spatial::bg;
+namespace bgi = spatial::bgi;
+using spatial::Box;
+using spatial::point;
+using SegmentEntry = spatial::EdgeEntry;
+
+// The graph again with the vertices not dropped (the base first, unchanged; grown ids shift
+// down) and these streets, given in the old vertex ids.
+GeometricGraph rebuilt(const GeometricGraph& g, const std::vector<char>& drop_vertex, const std::vector<Street>& streets) {
+    GeometricGraph kept;
+    kept.origin = g.origin;
+    kept.names = g.names;
+    std::vector<VertexId> id(g.vertex_count(), -1);
+    for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+        if (drop_vertex[v]) continue;
+        id[v] = kept.add_vertex(g.positions[v], g.vertex_osm_ids.empty() ? 0 : g.vertex_osm_ids[v]);
+        if (!g.symbols.empty()) kept.symbols[static_cast<std::size_t>(id[v])] = g.symbols[v];
+        if (!g.frames.empty()) kept.frames[static_cast<std::size_t>(id[v])] = g.frames[v];
+    }
+    for (const Street& street : streets) {
+        kept.add_edge(id[static_cast<std::size_t>(street.a)], id[static_cast<std::size_t>(street.b)], street.attributes, street.polyline);
+    }
+    if (!g.instances.empty()) {
+        kept.instances.clear();
+        for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+            if (!drop_vertex[v]) kept.instances.push_back(g.instances[v]);
+        }
+    }
+    return kept;
+}
+
+// The last guard of the rule that no two streets cross without an intersection: a grown
+// street that crosses another street (each stage checks as it goes; this catches what
+// their combination lets through) is taken out again, the newer of two grown ones.
+std::size_t remove_crossing_streets(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges) {
+    spatial::RTree<SegmentEntry> pieces;
+    std::vector<std::pair<std::size_t, std::size_t>> piece_of; // (edge, piece)
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
+        for (std::size_t i = 0; i + 1 < g.geometry_size(static_cast<EdgeId>(e)); ++i) {
+            Box box(point(p[i]), point(p[i]));
+            bg::expand(box, point(p[i + 1]));
+            pieces.insert({box, static_cast<EdgeId>(piece_of.size())});
+            piece_of.emplace_back(e, i);
+        }
+    }
+    std::vector<char> drop_edge(g.edge_count(), 0);
+    std::size_t dropped = 0;
+    for (std::size_t e = base_edges; e < g.edge_count(); ++e) {
+        if (drop_edge[e]) continue;
+        const auto [u, v] = g.edges[e];
+        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
+        bool crossing = false;
+        for (std::size_t i = 0; i + 1 < g.geometry_size(static_cast<EdgeId>(e)) && !crossing; ++i) {
+            Box box(point(p[i]), point(p[i]));
+            bg::expand(box, point(p[i + 1]));
+            for (auto it = pieces.qbegin(bgi::intersects(box)); it != pieces.qend() && !crossing; ++it) {
+                const auto [f, k] = piece_of[static_cast<std::size_t>(it->second)];
+                if (f == e || drop_edge[f] || (f > e)) continue; // each pair once: the newer one goes
+                const auto [a, b] = g.edges[f];
+                if (a == u || a == v || b == u || b == v) continue;
+                const Vec2* q = g.geometry_begin(static_cast<EdgeId>(f));
+                const auto m = segment_meeting(p[i], p[i + 1], q[k], q[k + 1]);
+                crossing = m && m->first > 1e-9 && m->first < 1 - 1e-9 && m->second > 1e-9 && m->second < 1 - 1e-9;
+            }
+        }
+        if (crossing) {
+            drop_edge[e] = 1;
+            ++dropped;
+        }
+    }
+    if (dropped == 0) return 0;
+    std::vector<std::size_t> degree(g.vertex_count(), 0);
+    std::vector<Street> streets;
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        if (drop_edge[e]) continue;
+        ++degree[static_cast<std::size_t>(g.edges[e][0])];
+        ++degree[static_cast<std::size_t>(g.edges[e][1])];
+        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
+        streets.push_back({g.edges[e][0], g.edges[e][1], g.edge_attributes(static_cast<EdgeId>(e)),
+                           std::vector<Vec2>(p, p + g.geometry_size(static_cast<EdgeId>(e)))});
+    }
+    std::vector<char> drop_vertex(g.vertex_count(), 0);
+    for (std::size_t v = base_vertices; v < g.vertex_count(); ++v) drop_vertex[v] = degree[v] == 0;
+    g = rebuilt(g, drop_vertex, streets);
+    return dropped;
+}
+
+// A grown vertex where two grown streets of one class meet and nothing else is no junction:
+// the two become one street through it (a bend of its polyline). Returns how many went.
+std::size_t dissolve_bends(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges) {
+    const std::size_t n = g.vertex_count();
+    std::vector<std::vector<EdgeId>> at(n);
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        at[static_cast<std::size_t>(g.edges[e][0])].push_back(static_cast<EdgeId>(e));
+        at[static_cast<std::size_t>(g.edges[e][1])].push_back(static_cast<EdgeId>(e));
+    }
+    auto other = [&](EdgeId e, VertexId v) { return g.edges[static_cast<std::size_t>(e)][0] == v ? g.edges[static_cast<std::size_t>(e)][1] : g.edges[static_cast<std::size_t>(e)][0]; };
+    std::vector<char> bend(n, 0);
+    std::size_t bends = 0;
+    for (std::size_t v = base_vertices; v < n; ++v) {
+        const auto& es = at[v];
+        if (es.size() != 2 || es[0] == es[1]) continue;
+        if (static_cast<std::size_t>(es[0]) < base_edges || static_cast<std::size_t>(es[1]) < base_edges) continue;
+        // A change of class is kept as a vertex, as the city's data keeps it.
+        if (g.edge_highway[static_cast<std::size_t>(es[0])] != g.edge_highway[static_cast<std::size_t>(es[1])]) continue;
+        bend[v] = 1;
+        ++bends;
+    }
+    if (bends == 0) return 0;
+    std::vector<char> used(g.edge_count(), 0);
+    std::vector<Street> streets;
+    std::set<std::pair<VertexId, VertexId>> pairs;
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        if (!bend[static_cast<std::size_t>(g.edges[e][0])] && !bend[static_cast<std::size_t>(g.edges[e][1])]) {
+            pairs.insert(std::minmax(g.edges[e][0], g.edges[e][1]));
+        }
+    }
+    auto polyline_from = [&](EdgeId e, VertexId start) {
+        const Vec2* p = g.geometry_begin(e);
+        std::vector<Vec2> line(p, p + g.geometry_size(e));
+        if (g.edges[static_cast<std::size_t>(e)][0] != start) std::reverse(line.begin(), line.end());
+        return line;
+    };
+    // Each chain of bends, walked from a junction at one end.
+    auto walk = [&](VertexId start, EdgeId first) {
+        std::vector<EdgeId> chain{first};
+        std::vector<Vec2> line = polyline_from(first, start);
+        VertexId v = other(first, start);
+        used[static_cast<std::size_t>(first)] = 1;
+        while (bend[static_cast<std::size_t>(v)] && v != start) {
+            const auto& es = at[static_cast<std::size_t>(v)];
+            const EdgeId next = es[0] == chain.back() ? es[1] : es[0];
+            if (used[static_cast<std::size_t>(next)]) break;
+            used[static_cast<std::size_t>(next)] = 1;
+            const std::vector<Vec2> more = polyline_from(next, v);
+            line.insert(line.end(), more.begin() + 1, more.end());
+            chain.push_back(next);
+            v = other(next, v);
+        }
+        const auto pair = std::minmax(start, v);
+        if (chain.size() > 1 && start != v && !bend[static_cast<std::size_t>(v)] && pairs.insert(pair).second) {
+            streets.push_back({start, v, g.edge_attributes(first), std::move(line)});
+            return;
+        }
+        // A loop, or a street already there between its ends: its bends stay junctions.
+        VertexId from = start;
+        for (const EdgeId e : chain) {
+            const VertexId to = other(e, from);
+            if (bend[static_cast<std::size_t>(to)] && to != start) bend[static_cast<std::size_t>(to)] = 2; // kept
+            from = to;
+        }
+        for (const EdgeId e : chain) {
+            const Vec2* p = g.geometry_begin(e);
+            streets.push_back({g.edges[static_cast<std::size_t>(e)][0], g.edges[static_cast<std::size_t>(e)][1], g.edge_attributes(e),
+                               std::vector<Vec2>(p, p + g.geometry_size(e))});
+        }
+    };
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        if (used[e]) continue;
+        const auto [a, b] = g.edges[e];
+        if (!bend[static_cast<std::size_t>(a)]) walk(a, static_cast<EdgeId>(e));
+        else if (!bend[static_cast<std::size_t>(b)]) walk(b, static_cast<EdgeId>(e));
+    }
+    // What is left is rings of bends only: kept as they are.
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        if (used[e]) continue;
+        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
+        for (const VertexId end : g.edges[e]) bend[static_cast<std::size_t>(end)] = 2;
+        streets.push_back({g.edges[e][0], g.edges[e][1], g.edge_attributes(static_cast<EdgeId>(e)),
+                           std::vector<Vec2>(p, p + g.geometry_size(static_cast<EdgeId>(e)))});
+    }
+    std::vector<char> drop(n, 0);
+    std::size_t dropped = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+        drop[v] = bend[v] == 1;
+        dropped += drop[v];
+    }
+    if (dropped == 0) return 0;
+    g = rebuilt(g, drop, streets);
+    return dropped;
+}
+
+} // namespace ggg::growth_detail
