@@ -36,3 +36,16 @@ def test_city_settings_default_to_the_library(ggg):
     library = ggg.option_defaults()["city"]
     assert DEFAULT_LANE_WIDTH == pytest.approx(library["lane_width"])
     assert _defaults(ROADS_PG_city.bl_rna)["sidewalk_m"] == pytest.approx(library["sidewalk_m"])
+
+
+def test_grammar_settings_default_to_the_library(ggg):
+    """Grow and Grow into Region start where ggg.derive and ggg.grow_region do."""
+    from road_grammar.properties import grammar
+    growth, derive = ggg.option_defaults()["growth"], ggg.option_defaults()["derive"]
+    assert grammar.DEFAULT_REGION_SEED == growth["seed"]
+    assert grammar.DEFAULT_MAX_PLACEMENTS == growth["max_placements"]
+    assert grammar.DEFAULT_REGION_MAX_VERTICES == growth["max_vertices"]
+    assert grammar.DEFAULT_PATIENCE == growth["patience"]
+    assert grammar.DEFAULT_STEPS == derive["steps"]
+    assert grammar.DEFAULT_MAX_VERTICES == derive["max_vertices"]
+    assert grammar.DEFAULT_TOLERANCE == pytest.approx(derive["tolerance"])

@@ -9,7 +9,9 @@
 #include "ggg/analysis/analyzer.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/graph/road_widths.hpp"
+#include "ggg/grammar/rewriting.hpp"
 #include "ggg/synthesis/city_layout.hpp"
+#include "ggg/synthesis/growth.hpp"
 #include "ggg/error.hpp"
 
 namespace ggg::python {
@@ -235,14 +237,29 @@ void bind_analysis(py::module_& m) {
             c["lane_width"] = RoadWidthRule{}.lane_width_m;
             c["floor_height_m"] = CityLayoutOptions{}.floor_height_m;
             c["sidewalk_m"] = CityLayoutOptions{}.sidewalk_m;
+            const GrowOptions grow;
+            const DeriveOptions derive;
+            py::dict gr, de;
+            gr["seed"] = grow.seed;
+            gr["max_placements"] = grow.max_placements;
+            gr["max_vertices"] = grow.max_vertices;
+            gr["patience"] = grow.patience;
+            gr["trace_streets"] = grow.trace_streets;
+            gr["continue_hierarchy"] = grow.continue_hierarchy;
+            de["steps"] = derive.max_steps;
+            de["max_vertices"] = derive.max_vertices;
+            de["tolerance"] = derive.tolerance;
+            de["strict"] = derive.strict;
             py::dict out;
+            out["growth"] = gr;
+            out["derive"] = de;
             out["analysis"] = a;
             out["learning"] = l;
             out["city"] = c;
             return out;
         },
         "The library's defaults of the analysis (ggg.analyze, ggg.find_similar), learning (ggg.learn) and the city\n"
-        "(ggg.road_widths, ggg.city_layout), by the\n"
+        "(ggg.road_widths, ggg.city_layout), growth (ggg.grow_region) and derivation (ggg.derive), by the\n"
         "names of their keyword arguments (grid as angle_cells and distance_cells): the values the CLI, Python and\n"
         "the Blender add-on all start from.");
 }

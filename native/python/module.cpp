@@ -384,9 +384,9 @@ PYBIND11_MODULE(ggg, m) {
         });
     m.def("read_grammar", &ggg::read_grammar, py::arg("path"), "Read a grammar file (raises ggg.GrammarError naming the place of a problem)");
     m.def("parse_grammar", &ggg::parse_grammar, py::arg("text"), py::arg("name") = "grammar", "A grammar from JSON text");
-    m.def("derive", &derive, py::arg("grammar"), py::arg("graph") = py::none(), py::arg("steps") = 1,
-          py::arg("max_vertices") = 1'000'000, py::arg("tolerance") = 0.05, py::arg("tolerance_m") = py::none(),
-          py::arg("strict") = false, py::arg("progress") = py::none(),
+    m.def("derive", &derive, py::arg("grammar"), py::arg("graph") = py::none(), py::arg("steps") = ggg::DeriveOptions{}.max_steps,
+          py::arg("max_vertices") = ggg::DeriveOptions{}.max_vertices, py::arg("tolerance") = ggg::DeriveOptions{}.tolerance,
+          py::arg("tolerance_m") = py::none(), py::arg("strict") = ggg::DeriveOptions{}.strict, py::arg("progress") = py::none(),
           "Derive up to `steps` parallel rewriting steps from `graph` (default: the grammar's axiom).\n"
           "Returns (Graph, report dict with vertices, edges, steps, stopped_by_budget, converged, ...).\n"
           "`tolerance` is relative to the rewritten vertex's scale; `tolerance_m` (metres) replaces it.");

@@ -66,7 +66,7 @@ void bind_synthesis(py::module_& m) {
             py::object d = to_python(growth_report_json(report));
             return py::make_tuple(std::move(grown), d);
         },
-        py::arg("base"), py::arg("grammar"), py::arg("region"), py::arg("seed") = 1, py::arg("max_placements") = GrowOptions{}.max_placements,
+        py::arg("base"), py::arg("grammar"), py::arg("region"), py::arg("seed") = GrowOptions{}.seed, py::arg("max_placements") = GrowOptions{}.max_placements,
         py::arg("max_vertices") = GrowOptions{}.max_vertices, py::arg("patience") = GrowOptions{}.patience,
         py::arg("placements") = py::none(), py::arg("border_m") = GrowOptions{}.border_m,
         py::arg("continue_hierarchy") = GrowOptions{}.continue_hierarchy, py::arg("trace_streets") = GrowOptions{}.trace_streets,
