@@ -165,7 +165,15 @@ void add_without_holes(const cl::PolyTree& tree, const Frame& frame, std::int32_
 
 void add_outer_node(const cl::PolyNode& node, const Frame& frame, std::int32_t owner, PolygonSet& out, int depth) {
     if (node.Contour.size() < 3) return;
-    if (node.Childs.empty() || depth > 64) {
+    // Clipper can leave a hole without a contour (a degenerate one): only real holes count.
+    const cl::PolyNode* first_hole = nullptr;
+    for (const cl::PolyNode* hole : node.Childs) {
+        if (hole->Contour.size() >= 3) {
+            first_hole = hole;
+            break;
+        }
+    }
+    if (!first_hole || depth > 64) {
         std::vector<Vec2> ring;
         ring.reserve(node.Contour.size());
         for (const auto& p : node.Contour) ring.push_back(frame.to_metres(p));
@@ -173,7 +181,9 @@ void add_outer_node(const cl::PolyNode& node, const Frame& frame, std::int32_t o
         out.add(ring, owner);
     } else {
         cl::Paths polygon{node.Contour};
-        for (const cl::PolyNode* hole : node.Childs) polygon.push_back(hole->Contour);
+        for (const cl::PolyNode* hole : node.Childs) {
+            if (hole->Contour.size() >= 3) polygon.push_back(hole->Contour);
+        }
         cl::cInt left = node.Contour[0].X, right = left, bottom = node.Contour[0].Y, top = bottom;
         for (const auto& p : node.Contour) {
             left = std::min(left, p.X);
@@ -181,8 +191,8 @@ void add_outer_node(const cl::PolyNode& node, const Frame& frame, std::int32_t o
             bottom = std::min(bottom, p.Y);
             top = std::max(top, p.Y);
         }
-        cl::cInt hole_left = node.Childs[0]->Contour[0].X, hole_right = hole_left;
-        for (const auto& p : node.Childs[0]->Contour) {
+        cl::cInt hole_left = first_hole->Contour[0].X, hole_right = hole_left;
+        for (const auto& p : first_hole->Contour) {
             hole_left = std::min(hole_left, p.X);
             hole_right = std::max(hole_right, p.X);
         }
