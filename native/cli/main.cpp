@@ -195,20 +195,9 @@ int main(int argc, char** argv) {
             const ggg::DeriveReport report = ggg::derive(graph, grammar, derive_options, terminal_progress());
             const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - start;
             ggg::write_graph(graph, output);
-            std::cout << nlohmann::json{{"vertices", graph.vertex_count()},
-                                        {"edges", graph.edge_count()},
-                                        {"steps", report.steps},
-                                        {"stopped_by_budget", report.stopped_by_budget},
-                                        {"converged", report.converged},
-                                        {"rewrites", report.totals.rewrites},
-                                        {"embedding_edges", report.totals.embedding_edges},
-                                        {"missed_embeddings", report.totals.missed_embeddings},
-                                        {"refused", report.totals.refused},
-                                        {"merged_vertices", report.totals.merged_vertices},
-                                        {"nothing_to_rewrite", report.nothing_to_rewrite},
-                                        {"seconds", seconds.count()}}
-                             .dump()
-                      << std::endl;
+            nlohmann::json summary = ggg::derive_report_json(graph, report);
+            summary["seconds"] = seconds.count();
+            std::cout << summary.dump() << std::endl;
             if (report.stopped_by_budget) {
                 std::cerr << "note: stopped after " << report.steps << " steps: the next step would pass --max-vertices "
                           << derive_options.max_vertices << "\n";

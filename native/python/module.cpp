@@ -21,6 +21,7 @@
 #include "ggg/encoding/decoding.hpp"
 #include "ggg/grammar/rewriting.hpp"
 #include "ggg/osm/highway_filter.hpp"
+#include "ggg/io/reports.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -202,18 +203,7 @@ py::tuple derive(const ggg::Grammar& grammar, std::optional<ggg::GeometricGraph>
     PythonProgress reporter(std::move(progress));
     const ggg::DeriveReport report =
         reporter.run([&](const ggg::ProgressCallback& cb) { return ggg::derive(graph, grammar, options, cb); });
-    py::dict r;
-    r["vertices"] = graph.vertex_count();
-    r["edges"] = graph.edge_count();
-    r["steps"] = report.steps;
-    r["stopped_by_budget"] = report.stopped_by_budget;
-    r["converged"] = report.converged;
-    r["rewrites"] = report.totals.rewrites;
-    r["refused"] = report.totals.refused;
-    r["embedding_edges"] = report.totals.embedding_edges;
-    r["missed_embeddings"] = report.totals.missed_embeddings;
-    r["merged_vertices"] = report.totals.merged_vertices;
-    r["nothing_to_rewrite"] = report.nothing_to_rewrite;
+    py::dict r = ggg::python::to_python(ggg::derive_report_json(graph, report));
     r["source_vertex"] = column(report.source_vertex);
     return py::make_tuple(std::move(graph), r);
 }

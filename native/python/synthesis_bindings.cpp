@@ -99,14 +99,7 @@ void bind_synthesis(py::module_& m) {
                 py::gil_scoped_release release;
                 report = continue_hierarchy(out, static_cast<EdgeId>(first_new_edge), o);
             }
-            py::dict d;
-            d["main_roads"] = report.main_roads;
-            d["routes"] = report.routes;
-            d["raised_streets"] = report.raised_streets;
-            d["connectors"] = report.connectors;
-            d["connector_streets"] = report.connector_streets;
-            d["intersections"] = report.intersections;
-            return py::make_tuple(std::move(out), d);
+            return py::make_tuple(std::move(out), to_python(hierarchy_report_json(report)));
         },
         py::arg("graph"), py::arg("first_new_edge"), py::arg("max_detour") = HierarchyOptions{}.max_detour,
         py::arg("region") = py::none(), py::arg("border_m") = HierarchyOptions{}.border_m,
@@ -152,12 +145,7 @@ void bind_synthesis(py::module_& m) {
                 py::gil_scoped_release release;
                 out = replace_occurrences(g, isogroup.group, chosen, r, &report);
             }
-            py::dict d;
-            d["replaced"] = report.replaced;
-            d["removed_vertices"] = report.removed_vertices;
-            d["added_vertices"] = report.added_vertices;
-            d["reconnected_streets"] = report.reconnected_streets;
-            return py::make_tuple(std::move(out), d);
+            return py::make_tuple(std::move(out), to_python(replacement_report_json(report)));
         },
         py::arg("graph"), py::arg("isogroup"), py::arg("positions"), py::arg("edges"), py::arg("edge_highway") = py::none(),
         py::arg("occurrences") = py::none(), py::arg("fit") = true,

@@ -152,4 +152,34 @@ nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b
             {"b", summary(sb)}};
 }
 
+nlohmann::json derive_report_json(const GeometricGraph& derived, const DeriveReport& report) {
+    return {{"vertices", derived.vertex_count()},
+            {"edges", derived.edge_count()},
+            {"steps", report.steps},
+            {"stopped_by_budget", report.stopped_by_budget},
+            {"converged", report.converged},
+            {"rewrites", report.totals.rewrites},
+            {"embedding_edges", report.totals.embedding_edges},
+            {"missed_embeddings", report.totals.missed_embeddings},
+            {"refused", report.totals.refused},
+            {"merged_vertices", report.totals.merged_vertices},
+            {"nothing_to_rewrite", report.nothing_to_rewrite}};
+}
+
+nlohmann::json hierarchy_report_json(const HierarchyReport& report) {
+    return {{"main_roads", report.main_roads},
+            {"routes", report.routes},
+            {"raised_streets", report.raised_streets},
+            {"connectors", report.connectors},
+            {"connector_streets", report.connector_streets},
+            {"intersections", report.intersections}};
+}
+
+nlohmann::json replacement_report_json(const ReplaceReport& report) {
+    return {{"replaced", report.replaced},
+            {"removed_vertices", report.removed_vertices},
+            {"added_vertices", report.added_vertices},
+            {"reconnected_streets", report.reconnected_streets}};
+}
+
 } // namespace ggg

@@ -5,14 +5,29 @@
 
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/grammar/grammar.hpp"
+#include "ggg/grammar/rewriting.hpp"
 #include "ggg/graph/geometric_graph.hpp"
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/synthesis/growth.hpp"
+#include "ggg/synthesis/replacement.hpp"
+#include "ggg/synthesis/street_hierarchy.hpp"
 
 namespace ggg {
 
 // Every field of GrowReport, flat: "placements", "rejected_crossing", "traced_streets", ...
 nlohmann::json growth_report_json(const GrowReport& report);
+
+// A derivation's figures (`ggg derive`, ggg.derive): the graph's vertices and edges after it,
+// steps, stopped_by_budget, converged, rewrites, embedding_edges, missed_embeddings, refused,
+// merged_vertices, nothing_to_rewrite.
+nlohmann::json derive_report_json(const GeometricGraph& derived, const DeriveReport& report);
+
+// ggg.continue_hierarchy's: main_roads, routes, raised_streets, connectors, connector_streets,
+// intersections.
+nlohmann::json hierarchy_report_json(const HierarchyReport& report);
+
+// ggg.replace_isogroup's: replaced, removed_vertices, added_vertices, reconnected_streets.
+nlohmann::json replacement_report_json(const ReplaceReport& report);
 
 // The figures of a learning as `ggg learn` prints them (docs/learning.md): input, mode,
 // rules, instances, levels, axiom, seconds (analysis, encoding), bytes, roundtrip, per_level.
