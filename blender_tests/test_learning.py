@@ -322,16 +322,25 @@ def test_level_zero_shows_the_plain_streets(town, ggg):
     assert {name for name, _, _ in drawn} == {rule_display.slot_material(0).name}
 
 
+def expect_every_level_as_the_library(town, ggg, parsed):
+    """Shows each level of the learned grammar in turn and checks the display against the
+    library; returns the top level's markers ({symbol: nonterminals})."""
+    result = town.road_learning
+    markers = {}
+    for level in range(result.levels + 1):
+        result.level = level
+        _, arrays = display_arrays(town)
+        _streets, held, markers = expected_level(ggg, parsed, level)
+        assert counts(arrays[rule_display.EDGE_RULE]) == held
+        assert counts(arrays[rule_display.MARKER_RULE]) == markers
+    return markers
+
+
 def test_every_level_matches_the_library(town, ggg):
     assert bpy.ops.roads.learn(mode='LOSSLESS') == {'FINISHED'}
     result = town.road_learning
     parsed = text_grammar(ggg, result.text)
-    for level in range(result.levels + 1):
-        result.level = level
-        _, arrays = display_arrays(town)
-        streets, held, markers = expected_level(ggg, parsed, level)
-        assert counts(arrays[rule_display.EDGE_RULE]) == held
-        assert counts(arrays[rule_display.MARKER_RULE]) == markers
+    expect_every_level_as_the_library(town, ggg, parsed)
     # The slider stays within the grammar's levels.
     result.level = result.levels + 5
     assert result.level == result.levels
@@ -349,12 +358,7 @@ def test_complete_learning_shows_every_level_down_to_one_vertex(town, ggg, repor
     assert stats["axiom"] == {"vertices": 1, "edges": 0}
     assert stats["roundtrip"]["edges_equal"]
     assert "complete" in result.parameters
-    for level in range(result.levels + 1):
-        result.level = level
-        _, arrays = display_arrays(town)
-        streets, held, markers = expected_level(ggg, parsed, level)
-        assert counts(arrays[rule_display.EDGE_RULE]) == held
-        assert counts(arrays[rule_display.MARKER_RULE]) == markers
+    markers = expect_every_level_as_the_library(town, ggg, parsed)
     assert sum(markers.values()) == 1  # the top level: one nonterminal
 
 

@@ -206,33 +206,30 @@ void bind_analysis(py::module_& m) {
     m.def(
         "option_defaults",
         [] {
-            const AnalyzeOptions analysis;
-            const DetectionOptions& d = analysis.detection;
+            // The analysis's keywords, for ggg.analyze and (with its own defaults) ggg.learn.
+            auto analysis_keywords = [](const AnalyzeOptions& analysis) {
+                const DetectionOptions& d = analysis.detection;
+                py::dict k;
+                k["angle_cells"] = d.angle_cells;
+                k["distance_cells"] = d.distance_cells;
+                k["cut"] = d.cut;
+                k["full"] = d.full;
+                k["max_order"] = d.max_order;
+                k["min_count"] = d.min_count;
+                k["tolerance"] = analysis.tolerance;
+                k["include_analysis_group"] = analysis.include_analysis_group;
+                k["min_aspect"] = analysis.constraints.min_aspect;
+                k["min_leaves"] = analysis.constraints.min_leaves;
+                k["min_irregularity"] = analysis.constraints.min_irregularity_deg;
+                return k;
+            };
             const LearnOptions learning;
-            const DetectionOptions& ld = learning.analysis.detection;
-            py::dict a, l;
-            a["angle_cells"] = d.angle_cells;
-            a["distance_cells"] = d.distance_cells;
-            a["cut"] = d.cut;
-            a["full"] = d.full;
-            a["max_order"] = d.max_order;
-            a["min_count"] = d.min_count;
-            a["tolerance"] = analysis.tolerance;
-            a["include_analysis_group"] = analysis.include_analysis_group;
-            a["min_aspect"] = analysis.constraints.min_aspect;
-            a["min_leaves"] = analysis.constraints.min_leaves;
-            a["min_irregularity"] = analysis.constraints.min_irregularity_deg;
-            l["angle_cells"] = ld.angle_cells;
-            l["distance_cells"] = ld.distance_cells;
-            l["cut"] = ld.cut;
-            l["max_order"] = ld.max_order;
+            py::dict a = analysis_keywords(AnalyzeOptions{});
+            py::dict l = analysis_keywords(learning.analysis);
             l["levels"] = learning.max_levels;
             l["complete"] = learning.complete;
             l["max_shape_error"] = learning.max_shape_error;
             l["max_vertex_error"] = learning.max_vertex_error_m;
-            l["min_aspect"] = learning.analysis.constraints.min_aspect;
-            l["min_leaves"] = learning.analysis.constraints.min_leaves;
-            l["min_irregularity"] = learning.analysis.constraints.min_irregularity_deg;
             py::dict c;
             c["lane_width"] = RoadWidthRule{}.lane_width_m;
             c["floor_height_m"] = CityLayoutOptions{}.floor_height_m;

@@ -61,7 +61,9 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
     // lowers a group's gain when the expansion let loose copies in), until the leading
     // groups are all recounted (at most eight rounds).
     std::vector<char> recounted(detected.isogroups.size(), 0);
-    if (seeded && !detected.isogroups.empty()) recounted[0] = 1; // the seed search is exact already
+    // The seed's group is not recounted: it holds the copies within the tolerance already (and,
+    // include_analysis_group, the ones the analysis groups with it, which a recount would drop).
+    if (seeded && !detected.isogroups.empty()) recounted[0] = 1;
     const SeedSearchOptions exact = search_options(options);
     for (int round = 0; round < 8 && options.recount_top > 0; ++round) {
         report(progress, 0.9 + 0.01 * round, "counting the leading patterns exactly");
@@ -142,7 +144,7 @@ Analysis analyze(const GeometricGraph& g, const AnalyzeOptions& options, const P
         const long p = detected.parents[i];
         a.parent = p >= 0 ? position[static_cast<std::size_t>(p)] : -1;
         a.score = detected.scores[i];
-        a.recounted = recounted[i] != 0;
+        a.recounted = recounted[i] != 0 && !(seeded && i == 0 && options.include_analysis_group);
         a.selection = std::move(s);
         result.isogroups.push_back(std::move(a));
     }

@@ -25,13 +25,7 @@
 namespace ggg {
 namespace {
 
-namespace bg = spatial::bg;
-namespace bgi = spatial::bgi;
-using spatial::Box;
-using spatial::Point;
-using spatial::point;
-using PointEntry = spatial::VertexEntry;
-using SegmentEntry = spatial::EdgeEntry;
+using namespace spatial; // bg, bgi, Point, Box, point, RTree, VertexEntry, EdgeEntry
 
 // A rule derived all the way to streets, at unit size: what one placement adds.
 struct Prototype {
@@ -288,7 +282,7 @@ private:
         for (std::size_t v = 0; v < g_.vertex_count(); ++v) vertices_.insert({point(g_.positions[v]), static_cast<VertexId>(v)});
     }
 
-    void index_edge(EdgeId e) { segments_.insert({spatial::edge_box(g_, e), e}); }
+    void index_edge(EdgeId e) { segments_.insert({edge_box(g_, e), e}); }
 
     bool near_region(const Vec2& p, double border) const { return inside(region_, p) || distance_to_ring(region_, p) <= border; }
 
@@ -737,8 +731,8 @@ private:
     int depth_ = 1;
     std::size_t base_vertices_ = 0, base_edges_ = 0;
     std::vector<std::vector<VertexId>> adjacency_;
-    spatial::RTree<PointEntry> vertices_;
-    spatial::RTree<SegmentEntry> segments_;
+    RTree<VertexEntry> vertices_;
+    RTree<EdgeEntry> segments_;
     std::vector<FrontierEdge> frontier_;
     Vec2 centre_ = Vec2::Zero();
     bool grid_city_ = false;

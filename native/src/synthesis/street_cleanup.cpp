@@ -9,11 +9,7 @@
 
 namespace ggg::growth_detail {
 
-namespace bg = spatial::bg;
-namespace bgi = spatial::bgi;
-using spatial::Box;
-using spatial::point;
-using SegmentEntry = spatial::EdgeEntry;
+using namespace spatial; // bg, bgi, Point, Box, point, RTree, VertexEntry, EdgeEntry
 
 // The graph again with the vertices not dropped (the base first, unchanged; grown ids shift
 // down) and these streets, given in the old vertex ids.
@@ -44,7 +40,7 @@ GeometricGraph rebuilt(const GeometricGraph& g, const std::vector<char>& drop_ve
 // street that crosses another street (each stage checks as it goes; this catches what
 // their combination lets through) is taken out again, the newer of two grown ones.
 std::size_t remove_crossing_streets(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges) {
-    spatial::RTree<SegmentEntry> pieces;
+    RTree<EdgeEntry> pieces;
     std::vector<std::pair<std::size_t, std::size_t>> piece_of; // (edge, piece)
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));

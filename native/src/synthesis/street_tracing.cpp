@@ -16,13 +16,7 @@
 namespace ggg::growth_detail {
 namespace {
 
-namespace bg = spatial::bg;
-namespace bgi = spatial::bgi;
-using spatial::Box;
-using spatial::Point;
-using spatial::point;
-using PointEntry = spatial::VertexEntry;
-using SegmentEntry = spatial::EdgeEntry;
+using namespace spatial; // bg, bgi, Point, Box, point, RTree, VertexEntry, EdgeEntry
 
 double angle_of(const Vec2& d) { return std::atan2(d.y(), d.x()); }
 Vec2 unit(double angle) { return {std::cos(angle), std::sin(angle)}; }
@@ -265,7 +259,7 @@ private:
         expected_streets_ = std::max(1.0, 2.0 * std::abs(area) / 2.0 / (typical_ * typical_));
     }
 
-    void index_edge(EdgeId e) { segments_.insert({spatial::edge_box(g_, e), e}); }
+    void index_edge(EdgeId e) { segments_.insert({edge_box(g_, e), e}); }
 
     std::size_t degree(VertexId v) const { return adjacency_[static_cast<std::size_t>(v)].size(); }
 
@@ -823,8 +817,8 @@ private:
     const double crowd_ = 0.5;
     const double grid_tolerance_ = M_PI / 4;
     std::vector<std::vector<EdgeId>> adjacency_;
-    spatial::RTree<PointEntry> vertices_;
-    spatial::RTree<SegmentEntry> segments_;
+    RTree<VertexEntry> vertices_;
+    RTree<EdgeEntry> segments_;
     std::priority_queue<Street, std::vector<Street>, Later> queue_;
     std::size_t order_ = 0;
 };
