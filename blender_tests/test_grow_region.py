@@ -14,7 +14,7 @@ import pytest
 
 from conftest import PanelLayout, activate, import_roads, record_executes, snapshot
 from road_grammar.core.columns import induced_subgraph
-from road_grammar.core.growth import placements_that_fit
+from road_grammar.core.growth import fitted
 from road_grammar.core.names import SURFACE_EDGE
 from road_grammar.core.polygons import closed_loops, contains, signed_area
 from road_grammar.data import graph_edit, region, roads, texts
@@ -327,22 +327,25 @@ def test_placed_rule_without_a_frame_and_one_without_a_rule(town, ggg):
     np.testing.assert_allclose(positions[count - 1:], grown.positions[count - 2:], atol=1e-3)
 
 
-def test_placements_that_fit(town, ggg):
+def test_the_report_says_which_placed_rules_fitted(town, ggg):
     _text, parsed = texts.active(bpy.context)
     old = graph_edit.MeshGraph(town)
     streets = old.graph(ggg)
     symbol = parsed.rules[0]["symbol"]
     inside, outside = (symbol, 1100.0, 0.0, 0.0, 0.0), (symbol, -3000.0, 0.0, 0.0, 0.0)
-    fits = placements_that_fit
-    assert fits(ggg, streets, parsed, RECTANGLE, []) == []
-    assert fits(ggg, streets, parsed, RECTANGLE, [inside]) == [True]
-    assert fits(ggg, streets, parsed, RECTANGLE, [outside, inside, outside]) == [False, True, False]
+
+    def fits(region, placements):
+        return fitted(ggg.grow_region(streets, parsed, region, patience=0, placements=placements)[1])
+
+    assert fits(RECTANGLE, []) == []
+    assert fits(RECTANGLE, [inside]) == [True]
+    assert fits(RECTANGLE, [outside, inside, outside]) == [False, True, False]
     # The same rule twice at one place: the second crowds the first.
-    assert fits(ggg, streets, parsed, RECTANGLE, [inside, inside]) == [True, False]
+    assert fits(RECTANGLE, [inside, inside]) == [True, False]
     # A region no street reaches (growth would seed its middle): still only the placements count.
     far = RECTANGLE + [5000.0, 0.0]
-    assert fits(ggg, streets, parsed, far, [outside]) == [False]
-    assert fits(ggg, streets, parsed, far, [outside, (symbol, 6100.0, 0.0, 0.0, 0.0)]) == [False, True]
+    assert fits(far, [outside]) == [False]
+    assert fits(far, [outside, (symbol, 6100.0, 0.0, 0.0, 0.0)]) == [False, True]
 
 
 # --- bad input ---------------------------------------------------------------------------------

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from road_grammar.core.columns import GraphColumns, appended, induced_subgraph, joined
-from road_grammar.core.growth import grow_into_region, placed_rules, placements_that_fit
+from road_grammar.core.growth import fitted, grow_into_region, placed_rules
 from road_grammar.core.jobs import StepsJob
 
 REPO = Path(__file__).resolve().parent.parent.parent
@@ -95,21 +95,9 @@ def test_placed_rules():
     assert placed_rules(graph, Parsed, [False] * 6 + [True])[0] == [6]
 
 
-def test_placements_that_fit():
-    class Growth:
-        """A grow_region where the placements at odd places never fit."""
-
-        calls = []
-
-        def grow_region(self, base, parsed, polygon, patience, placements):
-            self.calls.append(len(placements))
-            fitted = sum(1 for index, _p in enumerate(placements) if index % 2 == 0)
-            return None, {"attempts": len(placements), "placements": fitted}
-
-    growth = Growth()
-    assert placements_that_fit(growth, None, None, None, []) == []
-    assert placements_that_fit(growth, None, None, None, ["a", "b", "c"]) == [True, False, True]
-    assert placements_that_fit(growth, None, None, None, ["a"]) == [True]
+def test_fitted():
+    assert fitted({"hand_placements": []}) == []
+    assert fitted({"hand_placements": ["placed", "outside", "placed", "crowded"]}) == [True, False, True, False]
 
 
 def _sample_town(ggg):

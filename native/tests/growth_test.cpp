@@ -12,6 +12,7 @@
 #include "ggg/error.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
+#include "ggg/io/reports.hpp"
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/synthesis/growth.hpp"
 #include "ggg/osm/highway_filter.hpp"
@@ -202,6 +203,30 @@ TEST(Growth, FromNothingAndFromAPlacedRuleWithinBudgets) {
     const GeometricGraph placed = grow_region(empty, t.grammar, square, o, &report);
     EXPECT_LE(placed.vertex_count(), 60u + 40u); // the last placement may pass the budget by one rule
     EXPECT_TRUE(report.stopped_by_budget);
+}
+
+// Each rule placed by hand is told apart in the report: the one that fits, the one outside
+// the region and the one on top of the first, in the order they were given.
+TEST(Growth, TheReportSaysWhichPlacedRulesFitted) {
+    const Town& t = town();
+    const std::vector<Vec2> square{{0, 0}, {800, 0}, {800, 800}, {0, 800}};
+    const Symbol symbol = t.grammar.rules.front().symbol;
+    GrowOptions o;
+    o.patience = 0; // the rules placed by hand only
+    o.trace_streets = false;
+    o.placements.push_back({symbol, {400, 400}, Frame{0.0, 0.0}});
+    o.placements.push_back({symbol, {5000, 5000}, Frame{0.0, 0.0}});
+    o.placements.push_back({symbol, {400, 400}, Frame{0.0, 0.0}});
+    GrowReport report;
+    grow_region(GeometricGraph{}, t.grammar, square, o, &report);
+    ASSERT_EQ(report.hand_placements.size(), 3u);
+    EXPECT_EQ(report.hand_placements[0], PlacementOutcome::placed);
+    EXPECT_EQ(report.hand_placements[1], PlacementOutcome::outside);
+    EXPECT_NE(report.hand_placements[2], PlacementOutcome::placed);
+    EXPECT_EQ(report.placements, 1u);
+    const nlohmann::json j = growth_report_json(report);
+    EXPECT_EQ(j["hand_placements"][0], "placed");
+    EXPECT_EQ(j["hand_placements"][1], "outside");
 }
 
 TEST(Growth, BadInputIsAClearError) {

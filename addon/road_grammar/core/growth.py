@@ -1,5 +1,5 @@
 """Growing into a region with ggg.grow_region: the rules placed by hand (the graph's
-nonterminals) that go first, which of them fit, and the whole of Grow into Region without
+nonterminals) that go first, which of them fitted, and the whole of Grow into Region without
 Blender (``grow_into_region``, run in a worker thread)."""
 
 import math
@@ -9,30 +9,11 @@ import numpy as np
 from .columns import appended, induced_subgraph
 
 
-def placements_that_fit(ggg, base, parsed, polygon, placements):
-    """For each of ``placements`` (the tuples of ggg.grow_region), whether it fits into the
-    region (inside it, crossing no street, not crowding one) when they are placed in order.
-
-    ggg.grow_region places the rules placed by hand first, in order, before anything else,
-    without random choices; one that does not fit changes nothing. With patience=0 it stops
-    right after them, so its report counts the ones that fitted, except that when none did
-    and no street reaches the region it also seeds the region's middle (one try more than
-    the placements: then none fitted)."""
-
-    def fitted(prefix):
-        _graph, report = ggg.grow_region(base, parsed, polygon, patience=0, placements=prefix)
-        return 0 if report["attempts"] > len(prefix) else report["placements"]
-
-    if not placements:
-        return []
-    if fitted(placements) == len(placements):
-        return [True] * len(placements)
-    result, before = [], 0
-    for count in range(1, len(placements) + 1):
-        now = fitted(placements[:count])
-        result.append(now > before)
-        before = now
-    return result
+def fitted(report):
+    """For each rule placed by hand that ggg.grow_region was given (in order), whether it was
+    placed: its report says what became of each ("placed", "outside", "crossing", ...); one
+    that does not fit changes nothing."""
+    return [outcome == "placed" for outcome in report["hand_placements"]]
 
 
 def placed_rules(columns, parsed, chosen=None):
@@ -80,13 +61,10 @@ def grow_into_region(job, ggg, old, parsed, polygon, candidates, placements, see
     # vertices), placed first when they are used.
     streets = old.symbols == 0
     base, base_ids, base_edge_ids = induced_subgraph(ggg, graph, streets)
-    job.step(0.02, "fitting the placed rules")
-    fits = placements_that_fit(ggg, base, parsed, polygon, placements)
-    used = [vertex for vertex, fit in zip(candidates, fits) if fit]
     grown, report = ggg.grow_region(
         base, parsed, polygon, seed=seed, max_placements=max_placements, max_vertices=max_vertices,
-        patience=patience, placements=[p for p, fit in zip(placements, fits) if fit],
-        progress=job.stage(0.05, 0.95))
+        patience=patience, placements=placements, progress=job.stage(0.02, 0.95))
+    used = [vertex for vertex, fit in zip(candidates, fitted(report)) if fit]
     if report["added_vertices"] == 0:
         return Grown(report, used)
     job.step(0.95, "joining the new streets to the graph")

@@ -6,7 +6,7 @@ result."""
 import numpy as np
 
 from .columns import appended, induced_subgraph, joined
-from .growth import placed_rules, placements_that_fit
+from .growth import fitted, placed_rules
 from .names import RULE_GRAMMAR
 
 
@@ -88,21 +88,21 @@ def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements
     grown = base
     # The rules placed by hand go first, each with its own grammar: the other city's before
     # anything grows (patience 0: only them), the active city's at the start of its growth.
-    job.step(0.02, "fitting the placed rules")
-    placed = {}
+    # (Each report says which of them fitted; one that does not changes nothing.)
+    placed, candidates_of = {}, {}
     for text, parsed in ((text_b, parsed_b), (text_a, parsed_a)):
         if parsed is None or text in placed:
             continue
         candidates, placements = _placements(old, notes, text, parsed, use_placed_rules)
-        fits = placements_that_fit(ggg, grown, parsed, polygon, placements)
-        used.extend(vertex for vertex, fit in zip(candidates, fits) if fit)
-        placed[text] = [p for p, fit in zip(placements, fits) if fit]
-        left += len(placements) - len(placed[text])
-        if text != text_a and placed[text]:
+        placed[text], candidates_of[text] = placements, candidates
+        if text != text_a and placements:
             grown, first_placed = ggg.grow_region(
-                grown, parsed, polygon, seed=seed + 1, max_placements=len(placed[text]),
-                max_vertices=max_vertices, patience=0, placements=placed[text], continue_hierarchy=False,
-                trace_streets=False, progress=job.stage(0.03, 0.05, text))
+                grown, parsed, polygon, seed=seed + 1, max_placements=len(placements),
+                max_vertices=max_vertices, patience=0, placements=placements, continue_hierarchy=False,
+                trace_streets=False, progress=job.stage(0.02, 0.05, text))
+            fits = fitted(first_placed)
+            used.extend(vertex for vertex, fit in zip(candidates, fits) if fit)
+            left += fits.count(False)
             placed[text] = []
     # The streets of both cities that reach the gap are traced on into it first, after the
     # junctions around it (patience 0: no rule yet); the grammars' rules then fill what is
@@ -112,6 +112,7 @@ def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements
         progress=job.stage(0.05, 0.3, "both cities"))
     for text, parsed, pass_seed, shared, (low, high) in passes:
         fitting = placed.pop(text, [])
+        candidates = candidates_of.get(text, []) if fitting else []
 
         def grow(limit, low, high):
             return ggg.grow_region(
@@ -125,9 +126,9 @@ def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements
             # The active city's share of what it would place alone; the other's grammar
             # grows the rest of the region.
             alone = result[1]["placements"]
-            limit = max(len(fitting), int(round(share * alone)))
+            limit = max(fitted(result[1]).count(True), int(round(share * alone)))
             if limit == 0:  # (share 0: the other city's grammar grows it all)
-                result = (grown, {key: (False if isinstance(value, bool) else 0)
+                result = (grown, {key: (False if isinstance(value, bool) else [] if isinstance(value, list) else 0)
                                   for key, value in result[1].items()})
             elif limit < alone:
                 result = grow(limit, middle, high)
@@ -136,6 +137,11 @@ def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements
                 result[1]["share_of"] = alone
         grown, report = result
         reports.append(report)
+        if fitting:
+            fits = fitted(report)
+            fits += [False] * (len(fitting) - len(fits))  # (none placed when the share left it no room)
+            used.extend(vertex for vertex, fit in zip(candidates, fits) if fit)
+            left += fits.count(False)
     # The main roads are continued once, over the streets of both growths: across the seam,
     # those of one city meet those of the other only through both.
     job.step(0.9, "continuing the main roads across the gap")

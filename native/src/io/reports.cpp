@@ -9,7 +9,10 @@
 namespace ggg {
 
 nlohmann::json growth_report_json(const GrowReport& r) {
+    nlohmann::json hand = nlohmann::json::array();
+    for (const PlacementOutcome outcome : r.hand_placements) hand.push_back(std::string(outcome_name(outcome)));
     return {
+        {"hand_placements", std::move(hand)},
         {"placements", r.placements},
         {"attempts", r.attempts},
         {"rejected_outside", r.rejected_outside},

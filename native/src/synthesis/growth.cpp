@@ -388,6 +388,22 @@ private:
         if (!(frame.scale > 0)) frame.scale = it->size_m;
         ++report_->attempts;
         place(*it, frame, placed.position, -1, /*by_hand=*/true);
+        report_->hand_placements.push_back(last_outcome_);
+    }
+
+    // Counts a placement refused for `why` and remembers it (for the rules placed by hand).
+    bool reject(PlacementOutcome why) {
+        last_outcome_ = why;
+        switch (why) {
+        case PlacementOutcome::outside: ++report_->rejected_outside; break;
+        case PlacementOutcome::crossing: ++report_->rejected_crossing; break;
+        case PlacementOutcome::crowded: ++report_->rejected_crowded; break;
+        case PlacementOutcome::star: ++report_->rejected_star; break;
+        case PlacementOutcome::small_block: ++report_->rejected_small_block; break;
+        case PlacementOutcome::placed:
+        case PlacementOutcome::nothing_new: break;
+        }
+        return false;
     }
 
     // Derives the rule at `origin` in a copy of the streets around it and keeps the result
@@ -437,18 +453,16 @@ private:
             }
             const Vec2& q = local.positions[v];
             if (!inside(region_, q)) {
-                ++report_->rejected_outside;
-                return false;
+                return reject(PlacementOutcome::outside);
             }
             for (auto it = vertices_.qbegin(bgi::nearest(point(q), 1)); it != vertices_.qend(); ++it) {
                 if ((g_.positions[static_cast<std::size_t>(it->second)] - q).norm() < o_.spacing * typical) {
-                    ++report_->rejected_crowded;
-                    return false;
+                    return reject(PlacementOutcome::crowded);
                 }
             }
             fresh.push_back(v);
         }
-        if (fresh.empty()) return false;
+        if (fresh.empty()) return reject(PlacementOutcome::nothing_new);
         std::vector<std::array<VertexId, 2>> added; // local ids
         std::vector<HighwayClass> classes;
         for (std::size_t e = 0; e < local.edge_count(); ++e) {
@@ -471,8 +485,7 @@ private:
                     const VertexId key = global[static_cast<std::size_t>(x)] >= 0 ? global[static_cast<std::size_t>(x)] : -1 - x;
                     const std::size_t before = key >= 0 ? adjacency_[static_cast<std::size_t>(key)].size() : 0;
                     if (before + ++gained[key] > 4) {
-                        ++report_->rejected_star;
-                        return false;
+                        return reject(PlacementOutcome::star);
                     }
                 }
             }
@@ -482,13 +495,11 @@ private:
             const Vec2& a = local.positions[static_cast<std::size_t>(added[i][0])];
             const Vec2& b = local.positions[static_cast<std::size_t>(added[i][1])];
             if (crosses(a, b)) {
-                ++report_->rejected_crossing;
-                return false;
+                return reject(PlacementOutcome::crossing);
             }
             for (std::size_t k = 0; k < i; ++k) {
                 if (segments_meet(a, b, local.positions[static_cast<std::size_t>(added[k][0])], local.positions[static_cast<std::size_t>(added[k][1])])) {
-                    ++report_->rejected_crossing;
-                    return false;
+                    return reject(PlacementOutcome::crossing);
                 }
             }
         }
@@ -506,8 +517,7 @@ private:
                 const double left = block_left_of(local.positions, neighbours, a, b);
                 const double right = block_left_of(local.positions, neighbours, b, a);
                 if ((left > 0 && left < min_block_m2_) || (right > 0 && right < min_block_m2_)) {
-                    ++report_->rejected_small_block;
-                    return false;
+                    return reject(PlacementOutcome::small_block);
                 }
             }
         }
@@ -530,6 +540,7 @@ private:
             frontier_.push_back({global[static_cast<std::size_t>(added[i][0])], global[static_cast<std::size_t>(added[i][1])], 0});
         }
         ++report_->placements;
+        last_outcome_ = PlacementOutcome::placed;
         if (anchor >= 0 && static_cast<std::size_t>(anchor) < base_vertices_) ++report_->border_connections;
         return true;
     }
@@ -726,6 +737,7 @@ private:
     const ProgressCallback& progress_;
     std::mt19937_64 rng_;
     GrowReport* report_ = nullptr;
+    PlacementOutcome last_outcome_ = PlacementOutcome::nothing_new;
     std::vector<Prototype> prototypes_;
     std::vector<double> weights_;
     int depth_ = 1;
@@ -742,6 +754,19 @@ private:
 };
 
 } // namespace
+
+std::string_view outcome_name(PlacementOutcome outcome) {
+    switch (outcome) {
+    case PlacementOutcome::placed: return "placed";
+    case PlacementOutcome::outside: return "outside";
+    case PlacementOutcome::crossing: return "crossing";
+    case PlacementOutcome::crowded: return "crowded";
+    case PlacementOutcome::star: return "star";
+    case PlacementOutcome::small_block: return "small_block";
+    case PlacementOutcome::nothing_new: return "nothing_new";
+    }
+    return "unknown";
+}
 
 void check_options(const GrowOptions& o) {
     auto fail = [](const char* name, const std::string& what) { throw UsageError(std::string(name) + ": must be " + what); };

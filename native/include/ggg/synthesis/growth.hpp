@@ -19,6 +19,7 @@
 // Deterministic: the same inputs and seed give the same streets.
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "ggg/graph/geometric_graph.hpp"
@@ -78,6 +79,20 @@ struct GrowOptions {
     std::vector<RulePlacement> placements; // rules placed by hand, grown from first
 };
 
+// What became of one rule placed by hand: placed, or why it did not fit (a rule that does
+// not fit changes nothing, so a user can be told which of their rules were used).
+enum class PlacementOutcome : std::uint8_t {
+    placed,
+    outside,     // a new vertex would lie outside the region
+    crossing,    // a new street would cross another
+    crowded,     // a new vertex would come too close to another
+    star,        // a junction of more than four streets
+    small_block, // a new street would close a block smaller than the city's
+    nothing_new, // every vertex landed on one already there
+};
+// "placed", "outside", ...: the words of the report.
+std::string_view outcome_name(PlacementOutcome outcome);
+
 struct GrowReport {
     std::size_t placements = 0;      // rules placed (the ones by hand included)
     std::size_t attempts = 0;
@@ -106,6 +121,7 @@ struct GrowReport {
     bool grid = false;                 // the grammar's city is a grid: square rules kept to one
     bool filled = false;               // stopped because nothing more fits (or no frontier left)
     bool stopped_by_budget = false;    // stopped at max_placements or max_vertices
+    std::vector<PlacementOutcome> hand_placements; // one per GrowOptions::placements, in order
 };
 
 // Throws UsageError naming the first option out of its range (NaN and infinities included).
