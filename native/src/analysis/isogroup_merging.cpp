@@ -7,9 +7,9 @@
 #include <limits>
 #include <type_traits>
 
-#include <boost/geometry.hpp>
-#include <boost/geometry/index/rtree.hpp>
 #include <tbb/parallel_for.h>
+
+#include "ggg/graph/spatial_index.hpp"
 
 namespace ggg::detection_detail {
 
@@ -144,12 +144,10 @@ void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const 
         // Representatives are filed in an R-tree over six of the profile values (three
         // vertex distances, three edge lengths), so a group is compared only with those
         // whose values could all be within the tolerance.
-        namespace bg = boost::geometry;
-        namespace bgi = boost::geometry::index;
-        using Point = bg::model::point<double, 6, bg::cs::cartesian>;
-        using Box = bg::model::box<Point>;
+        using Point = spatial::PointIn<6>;
+        using Box = spatial::BoxIn<6>;
         std::vector<std::size_t> representatives;
-        bgi::rtree<std::pair<Point, std::size_t>, bgi::quadratic<16>> filed;
+        spatial::IncrementalRTree<std::pair<Point, std::size_t>> filed;
         std::vector<std::size_t> touched;
         auto key_of = [](const Found& f) {
             const auto& vp = f.vertex_profile;
@@ -186,7 +184,7 @@ void merge_isomorphic(std::vector<Found>& found, const GeometricGraph& g, const 
             span(std::integral_constant<std::size_t, 4>{}, w);
             span(std::integral_constant<std::size_t, 5>{}, w);
             hits.clear();
-            filed.query(bgi::intersects(Box(lo, hi)), std::back_inserter(hits));
+            filed.query(spatial::bgi::intersects(Box(lo, hi)), std::back_inserter(hits));
             nearby.clear();
             for (const auto& h : hits) nearby.push_back(h.second);
             // In the order the representatives were made: the most frequent match wins.
