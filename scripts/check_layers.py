@@ -9,7 +9,7 @@ import re
 import sys
 from pathlib import Path
 
-# error.hpp, progress.hpp and files.hpp sit at the root: every layer may use them.
+# error.hpp, progress.hpp, files.hpp and random.hpp sit at the root: every layer may use them.
 ORDER = ["", "graph", "osm", "grammar", "analysis", "encoding", "measures", "synthesis", "io"]
 
 

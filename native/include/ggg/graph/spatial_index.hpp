@@ -1,8 +1,10 @@
 #pragma once
-// The spatial index of the library: Boost.Geometry's R*-tree over points and boxes of the
-// plane, in the graph's metres. One definition for every stage that asks "which vertices,
-// which street pieces are near here", so that they index and query alike.
+// The spatial index of the library: Boost.Geometry's R-trees over points and boxes of the
+// plane, in the graph's metres (or of more dimensions, for values other than positions). One
+// definition for every stage that asks "which vertices, which street pieces, which patterns
+// are near here", so that they index and query alike.
 #include <algorithm>
+#include <cstddef>
 #include <utility>
 
 #include <boost/geometry.hpp>
@@ -20,6 +22,16 @@ using Box = bg::model::box<Point>;
 // 16 entries a node, R* splits: the indexes here are mostly bulk-loaded and queried often.
 template <class Value>
 using RTree = bgi::rtree<Value, bgi::rstar<16>>;
+// An index filled one entry at a time, between its queries: quadratic splits, which cost
+// less per insertion than R*'s reinsertions.
+template <class Value>
+using IncrementalRTree = bgi::rtree<Value, bgi::quadratic<16>>;
+// Points and boxes of more dimensions, for an index over values other than a position (the
+// isogroup detection files its patterns by six numbers of their shape).
+template <std::size_t Dimensions>
+using PointIn = bg::model::point<double, Dimensions, bg::cs::cartesian>;
+template <std::size_t Dimensions>
+using BoxIn = bg::model::box<PointIn<Dimensions>>;
 // The usual entries: a vertex at its point, an edge (or a piece of one) by its box.
 using VertexEntry = std::pair<Point, VertexId>;
 using EdgeEntry = std::pair<Box, EdgeId>;

@@ -1,0 +1,170 @@
+#pragma once
+// The encoder of the learning (encoding/grammar_encoder.hpp), private to it. Its stages:
+// the levels, each analysed and contracted (grammar_encoder.cpp); a rule made of one
+// isogroup's copies (rule_encoding.cpp); the grammar built from the rules and instances,
+// each instance's frame correction, residuals and embedding set against a real
+// derivation, and the round trip checked (grammar_assembly.cpp).
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <vector>
+
+#include "ggg/analysis/geometric_isomorphism.hpp"
+#include "ggg/analysis/pattern.hpp"
+#include "ggg/encoding/grammar_encoder.hpp"
+#include "ggg/grammar/grammar.hpp"
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/progress.hpp"
+
+namespace ggg::encoding_detail {
+
+using Clock = std::chrono::steady_clock;
+using Complex = std::complex<double>;
+
+// Rounded to a multiple of 1 / inverse_step, where inverse_step is a power of ten: the
+// result is the double nearest to a short decimal, which the JSON writer prints as such.
+inline double round_to(double x, double inverse_step) {
+    double r = 0.0;
+    if (inverse_step >= 1.0) {
+        r = std::round(x * inverse_step) / inverse_step;
+    } else {
+        const double step = std::round(1.0 / inverse_step);
+        r = std::round(x / step) * step;
+    }
+    return r == 0.0 ? 0.0 : r; // no "-0.0" in the file
+}
+inline Vec2 round_to(const Vec2& p, double inverse_step) { return {round_to(p.x(), inverse_step), round_to(p.y(), inverse_step)}; }
+
+// The power of ten 10^k with 10^-k <= step (so rounding to it errs by at most step / 2).
+inline double inverse_power_of_ten(double step) { return std::pow(10.0, std::ceil(-std::log10(step))); }
+
+inline double round_significant(double x, int digits) {
+    if (x == 0.0 || !std::isfinite(x)) return x;
+    const int exponent = static_cast<int>(std::floor(std::log10(std::abs(x))));
+    return round_to(x, std::pow(10.0, digits - 1 - exponent));
+}
+
+inline Complex linear(const Similarity2& s) { return {s.a, s.b}; }
+
+// Frames the derivation corrects afterwards (the axiom's, the rules' T_i) need few digits;
+// an instance's correction is what places it, to about 1e-7 of its size.
+inline Frame frame_of(Complex z) { return {round_significant(std::abs(z), 4), round_to(std::arg(z) * 180.0 / M_PI, 100)}; }
+inline Frame correction_of(Complex z) { return {round_significant(std::abs(z), 7), round_to(std::arg(z) * 180.0 / M_PI, 1e5)}; }
+
+// A vertex of a level's graph: a street vertex of the input, or a nonterminal standing for
+// an instance.
+struct Node {
+    bool nonterminal = false;
+    std::int32_t id = 0; // input vertex, or instance
+};
+
+struct InstanceDraft {
+    Symbol symbol = 0;
+    std::vector<Node> members;  // per rule vertex
+    Similarity2 fit;            // rule coordinates -> metres, least squares over the occurrence
+    Similarity2 frame;          // the same with t = the nonterminal's position
+    std::int32_t parent = -1;   // the instance whose rule placed this one's nonterminal
+};
+
+struct RuleDraft {
+    Rule rule;
+    int level = 0;
+};
+
+class Encoder {
+public:
+    // How the copies of a group are taken: only where the rule pays for itself (the default),
+    // wherever it repeats (complete encoding, when nothing pays any more), the user's seed
+    // (whatever it saves), or once (complete encoding's last rule: what never repeated).
+    enum class Take { paying, repeating, seed, once };
+
+    Encoder(const GeometricGraph& input, const LearnOptions& options, const ProgressCallback& progress)
+        : input_(input), options_(options), progress_(progress) {}
+
+    LearnResult run();
+
+private:
+    void start_level_graph();
+
+    Vec2 node_position(const Node& n) const {
+        return n.nonterminal ? instances_[static_cast<std::size_t>(n.id)].frame.t : input_.positions[static_cast<std::size_t>(n.id)];
+    }
+
+    // One level: analyse, take the groups that pay, contract their occurrences. False when
+    // nothing was encoded.
+    bool encode_level(int level, bool seeded, Take take = Take::paying);
+
+    // Complete encoding's last level: the whole graph left becomes the right side of one rule
+    // used once, and the axiom its single nonterminal.
+    void encode_rest(int level);
+
+    // Makes a rule of `group` from those of its occurrences that are free, fit its shape and
+    // sit in consistent frames, and records an instance for each; nothing when too few are
+    // left (or, paying, when they no longer pay).
+    void encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
+                      std::vector<std::int32_t>& level_instances, LevelReport& lr);
+
+    // The largest distance from a street vertex of the occurrence (labelled as the pattern)
+    // to where `fit` puts the pattern's vertex: the vertex's paper-mode decoding error.
+    // Nonterminals are left out, since their instances correct their own frames.
+    double worst_street_misfit(const Pattern& pattern, const Similarity2& fit, const std::vector<VertexId>& occ) const;
+
+    // The occurrences to encode: a largest set that shares no vertex, taken first among the
+    // occurrences turned like most of them (modulo the pattern's n-fold symmetry), then among
+    // the others. A district tiled by copies that all face one way is regular again one
+    // level up, where a tiling of mixed orientations is not.
+    void choose_aligned(std::vector<std::vector<VertexId>>& occs, std::vector<Similarity2>& fits, int n) const;
+
+    // Keeps the occurrences whose nonterminals sit in the pattern's usual frame, and sets
+    // the rule's transform T_i of each nonterminal vertex to that frame (the mean over the
+    // occurrences in the most common 30-degree sector).
+    void consistent_frames(const Isogroup& group, std::vector<std::vector<VertexId>>& chosen, std::vector<Similarity2>& fits,
+                           std::vector<Frame>& transforms) const;
+
+    // The next level's graph: every occurrence replaced by its nonterminal, joined to what
+    // the occurrence was joined to (the most important class where several streets merge).
+    void contract(const std::vector<std::int32_t>& level_instances, const std::vector<char>& used);
+
+    // Rules, the axiom (the last level's graph) and the instance skeletons.
+    Grammar build_grammar();
+
+    // Derives the grammar level by level, as decoding will, and sets each instance's frame
+    // correction (and residuals) against the frame the derivation hands it. Records where
+    // every input vertex lands.
+    void simulate(Grammar& grammar);
+
+    // Every input edge that is neither a rule edge nor an axiom edge becomes an embedding
+    // point of one of its ends, aimed at where the derivation puts the other end.
+    void embed(Grammar& grammar);
+
+    void check_roundtrip();
+
+    const GeometricGraph& input_;
+    Clock::time_point start_;
+    const LearnOptions& options_;
+    IsomorphismOptions symmetry_options_ = [this] {
+        IsomorphismOptions o;
+        o.tolerance = options_.analysis.detection.merge_tolerance;
+        return o;
+    }();
+    const ProgressCallback& progress_;
+    LearnResult result_;
+    double progress_done_ = 0.0;
+
+    GeometricGraph graph_;   // the current level's graph
+    std::vector<Node> nodes_; // per vertex of graph_
+    std::vector<InstanceDraft> instances_;
+    std::vector<RuleInstance> encoded_; // per instance: what goes into the grammar
+    std::vector<std::vector<VertexId>> occurrence_of_; // this level's instances: vertices of graph_
+    std::vector<RuleDraft> rules_;
+    std::vector<int> rotations_; // per rule: the rotations that map its pattern onto itself
+    std::vector<std::int32_t> placer_;      // per input vertex: the instance placing it, -1 = the axiom
+    std::vector<std::int32_t> axiom_index_; // per input vertex: its axiom vertex, -1 = none
+    std::vector<Vec2> decoded_;             // per input vertex: where the derivation puts it
+    std::vector<char> placed_;
+    std::vector<Similarity2> effective_;    // per instance: the frame its rule is placed in
+    std::vector<std::vector<Vec2>> step_nonterminals_; // per derivation step (0 = the axiom): the nonterminals it places
+};
+
+} // namespace ggg::encoding_detail
