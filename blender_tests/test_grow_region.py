@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 from conftest import PanelLayout, activate, import_roads, record_executes, snapshot
-from road_grammar.core.columns import induced_subgraph
 from road_grammar.core.growth import fitted
 from road_grammar.core.names import SURFACE_EDGE
 from road_grammar.core.polygons import closed_loops, contains, signed_area
@@ -87,7 +86,7 @@ def expected(ggg, obj, corners, **options):
     """ggg.grow_region on the streets of ``obj`` (as the mesh holds them) with the scene's
     grammar: (grown graph, report)."""
     old = graph_edit.MeshGraph(obj)
-    streets, _ids, _edges = induced_subgraph(ggg, old.graph(ggg), old.symbols == 0)
+    streets, _ids, _edges = ggg.induced_subgraph(old.graph(ggg), old.symbols == 0)
     _text, parsed = texts.active(bpy.context)
     return ggg.grow_region(streets, parsed, np.asarray(corners, dtype=np.float64), **options)
 
@@ -258,7 +257,7 @@ def test_placed_rules_grow_first(town, ggg, reports):
     count = len(town.data.vertices)
     assert len(nonterminals(town)) == 2
     old = graph_edit.MeshGraph(town)
-    streets, _ids, _edges = induced_subgraph(ggg, old.graph(ggg), old.symbols == 0)
+    streets, _ids, _edges = ggg.induced_subgraph(old.graph(ggg), old.symbols == 0)
     a, b = old.frames[count - 2, :2]
     placed = (rule["symbol"], 1100.0, 0.0, math.hypot(a, b), math.degrees(math.atan2(b, a)))
     assert placed[3] == pytest.approx(80.0) and placed[4] == pytest.approx(20.0)
@@ -314,7 +313,7 @@ def test_placed_rule_without_a_frame_and_one_without_a_rule(town, ggg):
     mesh.attributes["frame_a"].data[count - 2].value = 0.0  # no scale: the unit frame for Grow
     mesh.attributes["frame_b"].data[count - 2].value = 0.0
     mesh.attributes["symbol"].data[count - 1].value = 99  # no such rule
-    streets, _ids, _edges = induced_subgraph(ggg, graph_edit.MeshGraph(town).graph(ggg),
+    streets, _ids, _edges = ggg.induced_subgraph(graph_edit.MeshGraph(town).graph(ggg),
                                              np.arange(count) < count - 2)
     grown, report = ggg.grow_region(streets, parsed, RECTANGLE, seed=1,
                                     placements=[(rule["symbol"], 1100.0, 0.0, 0.0, 0.0)])

@@ -25,8 +25,6 @@ def test_polylines_round_trip():
     back_offsets, back_points = polylines.segment_polylines(seg_points, segments, owner, 2)
     assert back_offsets.tolist() == full_offsets.tolist()
     np.testing.assert_array_equal(back_points, full_points)
-    sub_offsets, sub_points = polylines.selected_polylines(full_offsets, full_points, [1])
-    assert sub_offsets.tolist() == [0, 3] and sub_points.tolist() == points.tolist()
 
 
 def test_closed_loops_and_areas():

@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from road_grammar.core.columns import GraphColumns, appended, induced_subgraph, joined
+from road_grammar.core.columns import GraphColumns, joined
 from road_grammar.core.growth import fitted, grow_into_region, placed_rules
 from road_grammar.core.jobs import StepsJob
 
@@ -47,19 +47,25 @@ def test_graph_columns(ggg):
     assert list(graph.edge_names) == square.names
 
 
-def test_induced_subgraph_and_appended(ggg):
+def test_induced_subgraph_and_with_grown(ggg):
     graph = columns(SQUARE + [[50, 50]], RING + [[0, 4]]).graph(ggg)
     keep = np.array([True, True, True, True, False])
-    sub, vertex_ids, edge_ids = induced_subgraph(ggg, graph, keep)
+    sub, vertex_ids, edge_ids = ggg.induced_subgraph(graph, keep)
     assert sub.vertex_count == 4 and vertex_ids.tolist() == [0, 1, 2, 3] and edge_ids.tolist() == [0, 1, 2, 3]
     assert list(sub.edge_names) == ["street 0", "street 1", "street 2", "street 3"]
     # "Growth": one more vertex joined to vertex 2.
     grown = ggg.Graph.from_arrays(np.vstack((np.asarray(sub.positions), [[150, 150]])),
-                                  np.vstack((np.asarray(sub.edges), [[2, 4]])))
-    result, source = appended(ggg, graph, keep, grown, vertex_ids, len(edge_ids))
+                                  np.vstack((np.asarray(sub.edges), [[2, 4]])),
+                                  edge_names=list(sub.edge_names) + ["grown"])
+    result, source = ggg.with_grown(graph, keep, vertex_ids, edge_ids, grown)
     assert result.vertex_count == 5 and result.edge_count == 5
     assert source.tolist() == [0, 1, 2, 3, -1]
     assert np.asarray(result.edges)[-1].tolist() == [2, 4]
+    assert list(result.edge_names) == ["street 0", "street 1", "street 2", "street 3", "grown"]
+    with pytest.raises(ggg.Error, match="keep"):
+        ggg.induced_subgraph(graph, np.ones(3, dtype=bool))
+    with pytest.raises(ggg.Error, match="not kept"):
+        ggg.with_grown(graph, np.array([True, False, True, True, True]), vertex_ids, edge_ids, grown)
 
 
 def test_joined(ggg):

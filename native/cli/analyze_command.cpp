@@ -10,6 +10,7 @@
 #include "ggg/analysis/analyzer.hpp"
 #include "ggg/error.hpp"
 #include "ggg/io/read_graph.hpp"
+#include "ggg/io/reports.hpp"
 
 namespace ggg::cli {
 
@@ -150,51 +151,14 @@ int AnalyzeCommand::run() const {
     const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - t1;
     const std::chrono::duration<double> import_seconds = t1 - t0;
 
-    nlohmann::json groups = nlohmann::json::array();
-    const std::size_t shown = top_ == 0 ? analysis.isogroups.size() : std::min(top_, analysis.isogroups.size());
-    for (std::size_t i = 0; i < shown; ++i) {
-        const AnalyzedIsogroup& a = analysis.isogroups[i];
-        nlohmann::json j{{"order", a.group.order()},
-                         {"edge_count", a.group.pattern.edges.size()},
-                         {"occurrences", a.group.frequency()},
-                         {"non_overlapping", a.selection.non_overlapping.size()},
-                         {"score", a.score},
-                         {"gain", a.selection.gain},
-                         {"selection_exact", a.selection.exact},
-                         {"parent", a.parent},
-                         {"size_m", a.group.pattern.metres_per_unit},
-                         {"recounted", a.recounted}};
-        if (occurrences_) {
-            nlohmann::json list = nlohmann::json::array();
-            for (std::size_t o = 0; o < a.group.frequency(); ++o) {
-                nlohmann::json ids = nlohmann::json::array();
-                for (VertexId v : a.group.occurrence(o)) ids.push_back(graph.vertex_osm_ids[static_cast<std::size_t>(v)]);
-                list.push_back(std::move(ids));
-            }
-            j["occurrence_osm_nodes"] = std::move(list);
-        }
-        groups.push_back(std::move(j));
-    }
-    nlohmann::json out{{"seconds", seconds.count()},
-                       {"import_seconds", import_seconds.count()},
-                       {"graph", {{"vertices", graph.vertex_count()}, {"edges", graph.edge_count()}}},
-                       {"detected", analysis.detected},
-                       {"stopped_by_budget", analysis.stopped_by_budget},
-                       {"isogroups", std::move(groups)}};
-    if (stats_) {
-        nlohmann::json orders = nlohmann::json::array();
-        for (const OrderReport& r : analysis.orders) {
-            orders.push_back({{"order", r.order},
-                              {"parents", r.parents},
-                              {"candidates", r.candidates},
-                              {"children", r.children},
-                              {"groups", r.groups},
-                              {"expanded_next", r.expanded_next},
-                              {"occurrences", r.occurrences}});
-        }
-        out["orders"] = std::move(orders);
-        out["peak_memory_mb"] = peak_memory_mb();
-    }
+    AnalysisReportOptions report;
+    report.top = top_;
+    report.occurrence_osm_nodes = occurrences_;
+    report.orders = stats_;
+    nlohmann::json out = analysis_report_json(graph, analysis, report);
+    out["seconds"] = seconds.count();
+    out["import_seconds"] = import_seconds.count();
+    if (stats_) out["peak_memory_mb"] = peak_memory_mb();
     std::cout << out.dump() << std::endl;
     if (analysis.stopped_by_budget) std::cerr << "note: stopped growing patterns at the time or memory budget (--max-seconds, --max-memory); the patterns found so far are reported\n";
     return 0;

@@ -30,7 +30,8 @@ inline CLI::Validator number_in(double lo, double hi) {
         if (!s.empty() && s.back() == '.') s.pop_back();
         return s;
     };
-    const std::string range = std::isinf(hi) ? "a number >= " + text(lo) : "a number from " + text(lo) + " to " + text(hi);
+    const bool any = lo == -std::numeric_limits<double>::max() && hi == std::numeric_limits<double>::max();
+    const std::string range = any ? "a finite number" : std::isinf(hi) ? "a number >= " + text(lo) : "a number from " + text(lo) + " to " + text(hi);
     return CLI::Validator(
         [=](std::string& value) {
             try {
@@ -41,7 +42,7 @@ inline CLI::Validator number_in(double lo, double hi) {
             }
             return "must be " + range + ", got '" + value + "'";
         },
-        std::isinf(hi) ? "NUMBER >= " + text(lo) : "NUMBER in [" + text(lo) + ", " + text(hi) + "]");
+        any ? "NUMBER" : std::isinf(hi) ? "NUMBER >= " + text(lo) : "NUMBER in [" + text(lo) + ", " + text(hi) + "]");
 }
 
 // Any finite number (negative ones included, for options where < 0 means "automatic").

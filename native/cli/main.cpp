@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <string_view>
+#include <type_traits>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -107,19 +109,16 @@ int main(int argc, char** argv) {
     grow->add_option("--region", grow_region_path, "GeoJSON file with the region's Polygon (longitude, latitude)")->required();
     grow->add_option("--base", grow_base, "Road graph the region lies in (OSM, GeoJSON or .ggraph); its streets are kept and grown from");
     grow->add_option("-o,--output", output, "Output file: .geojson or .ggraph (the base with the grown streets)")->required();
-    grow->add_option("--seed", grow_options.seed, "Seed of the random choices: the same seed gives the same streets")
-        ->check(count_from<std::uint64_t>(0))
-        ->capture_default_str();
-    grow->add_option("--max-placements", grow_options.max_placements, "Most rules placed")->check(count_from<std::size_t>(1))->capture_default_str();
-    grow->add_option("--max-vertices", grow_options.max_vertices, "Most vertices in the result")->check(count_from<std::size_t>(1))->capture_default_str();
-    grow->add_option("--border", grow_options.border_m, "How near the region (metres) a base street must end to be grown from; < 0: 5 % of its size")
-        ->check(finite_number)
-        ->capture_default_str();
-    grow->add_option("--patience", grow_options.patience, "Failed placements in a row after which the region counts as full")
-        ->check(count_from<std::size_t>(1))
-        ->capture_default_str();
-    grow->add_flag("!--no-tracing", grow_options.trace_streets,
-                   "Grow with rules alone: do not first trace the streets that reach the region on into it");
+    ggg::visit_grow_options(grow_options, [&](std::string_view, std::string_view flag, std::string_view help, auto& field) {
+        using Field = std::remove_reference_t<decltype(field)>;
+        if constexpr (std::is_same_v<Field, bool>) {
+            grow->add_flag("!" + std::string(flag), field, std::string(help)); // (every bool flag turns its option off)
+        } else if constexpr (std::is_floating_point_v<Field>) {
+            grow->add_option(std::string(flag), field, std::string(help))->check(finite_number)->capture_default_str();
+        } else {
+            grow->add_option(std::string(flag), field, std::string(help))->check(count_from<Field>(0))->capture_default_str();
+        }
+    });
     import_flags.add_to(*grow);
     std::string compare_a, compare_b;
     auto* compare = app.add_subcommand("compare", "How alike two street networks are: distances of their degree, edge length, "
@@ -151,6 +150,7 @@ int main(int argc, char** argv) {
         }
         if (learn.chosen()) return learn.run();
         if (*grow) {
+            ggg::check_options(grow_options); // before the files are read
             const ggg::Grammar grammar = ggg::read_grammar(grow_grammar);
             ggg::GeometricGraph base;
             if (!grow_base.empty()) {

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "common.hpp"
+#include "ggg/io/reports.hpp"
 #include "ggg/analysis/analyzer.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/graph/road_widths.hpp"
@@ -108,21 +109,25 @@ void bind_analysis(py::module_& m) {
         .def_readonly("isogroups", &Analysis::isogroups, "Best gain first (with a seed: the seed's group first)")
         .def_readonly("detected", &Analysis::detected)
         .def_readonly("stopped_by_budget", &Analysis::stopped_by_budget)
-        .def_property_readonly("orders", [](const Analysis& a) {
-            py::list out;
-            for (const OrderReport& r : a.orders) {
-                py::dict d;
-                d["order"] = r.order;
-                d["parents"] = r.parents;
-                d["candidates"] = r.candidates;
-                d["children"] = r.children;
-                d["groups"] = r.groups;
-                d["expanded_next"] = r.expanded_next;
-                d["occurrences"] = r.occurrences;
-                out.append(d);
-            }
-            return out;
-        });
+        .def_property_readonly("orders", [](const Analysis& a) { return to_python(detection_orders_json(a.orders)); },
+                               "The detection's counts per order: a list of dicts (order, parents, candidates, children, groups,\n"
+                               "expanded_next, occurrences)")
+        .def(
+            "report",
+            [](const Analysis& a, const GeometricGraph& graph, std::int64_t top, bool occurrence_osm_nodes, bool orders) {
+                AnalysisReportOptions o;
+                o.top = count_arg("top", top);
+                o.occurrence_osm_nodes = occurrence_osm_nodes;
+                o.orders = orders;
+                return to_python(analysis_report_json(graph, a, o));
+            },
+            py::arg("graph"), py::arg("top") = AnalysisReportOptions{}.top,
+            py::arg("occurrence_osm_nodes") = AnalysisReportOptions{}.occurrence_osm_nodes,
+            py::arg("orders") = AnalysisReportOptions{}.orders,
+            "The analysis as `ggg analyze` prints it (docs/cli.md), as a dict: graph, detected, stopped_by_budget and\n"
+            "the isogroups (the best `top`; 0 = all), each with order, edge_count, occurrences, non_overlapping, score,\n"
+            "gain, selection_exact, parent, size_m and recounted (and occurrence_osm_nodes, the OSM node ids of each\n"
+            "occurrence, from `graph`, the graph analysed); with orders, the detection's counts per order.");
 
     m.def(
         "analyze",
@@ -234,21 +239,14 @@ void bind_analysis(py::module_& m) {
             c["lane_width"] = RoadWidthRule{}.lane_width_m;
             c["floor_height_m"] = CityLayoutOptions{}.floor_height_m;
             c["sidewalk_m"] = CityLayoutOptions{}.sidewalk_m;
-            const GrowOptions grow;
             const DeriveOptions derive;
-            py::dict gr, de;
-            gr["seed"] = grow.seed;
-            gr["max_placements"] = grow.max_placements;
-            gr["max_vertices"] = grow.max_vertices;
-            gr["patience"] = grow.patience;
-            gr["trace_streets"] = grow.trace_streets;
-            gr["continue_hierarchy"] = grow.continue_hierarchy;
+            py::dict de;
             de["steps"] = derive.max_steps;
             de["max_vertices"] = derive.max_vertices;
             de["tolerance"] = derive.tolerance;
             de["strict"] = derive.strict;
             py::dict out;
-            out["growth"] = gr;
+            out["growth"] = grow_option_defaults();
             out["derive"] = de;
             out["analysis"] = a;
             out["learning"] = l;

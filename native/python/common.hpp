@@ -110,6 +110,9 @@ private:
 // nlohmann::json -> Python objects (dicts, lists, numbers, strings).
 py::object to_python(const nlohmann::json& j);
 
+// The defaults of ggg.grow_region's options, from visit_grow_options (synthesis_bindings.cpp).
+py::dict grow_option_defaults();
+
 // Binds the analyzer (analysis_bindings.cpp).
 void bind_analysis(py::module_& m);
 // Binds grammar learning and decoding (learning_bindings.cpp).

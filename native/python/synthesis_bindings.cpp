@@ -1,11 +1,17 @@
 // ggg.grow_region (streets grown into a region with a grammar), ggg.replace_isogroup
 // (terminal replacement) and ggg.compare (how alike two street networks are); and the
-// JSON-to-Python conversion the bindings that return reports share.
+// JSON-to-Python conversion the bindings that return reports share; the graph surgery around
+// a growth (ggg.induced_subgraph, ggg.with_grown).
+#include <limits>
+#include <string_view>
+#include <type_traits>
+
 #include <pybind11/stl.h>
 
 #include "common.hpp"
 #include "ggg/error.hpp"
 #include "ggg/grammar/grammar.hpp"
+#include "ggg/graph/graph_surgery.hpp"
 #include "ggg/measures/network_comparison.hpp"
 #include "ggg/analysis/analyzer.hpp"
 #include "ggg/io/reports.hpp"
@@ -38,46 +44,175 @@ py::object to_python(const nlohmann::json& j) {
 }
 
 
+namespace {
+
+using BoolArray = py::array_t<bool, py::array::c_style | py::array::forcecast>;
+using IdArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+std::vector<bool> keep_arg(const BoolArray& keep) {
+    if (keep.ndim() != 1) throw UsageError("keep: a 1-D array of one bool per vertex is needed");
+    return std::vector<bool>(keep.data(), keep.data() + keep.size());
+}
+
+template <typename Id>
+std::vector<Id> ids_arg(const char* name, const IdArray& ids) {
+    if (ids.ndim() != 1) throw UsageError(std::string(name) + ": a 1-D array of ids is needed");
+    std::vector<Id> out;
+    out.reserve(static_cast<std::size_t>(ids.size()));
+    for (py::ssize_t i = 0; i < ids.size(); ++i) {
+        const std::int64_t id = ids.data()[i];
+        if (id < 0 || id > std::numeric_limits<Id>::max()) throw UsageError(std::string(name) + ": id out of range: " + std::to_string(id));
+        out.push_back(static_cast<Id>(id));
+    }
+    return out;
+}
+
+void bind_graph_surgery(py::module_& m) {
+    m.def(
+        "induced_subgraph",
+        [](const GeometricGraph& graph, const BoolArray& keep) {
+            std::vector<bool> k = keep_arg(keep);
+            Subgraph part;
+            {
+                py::gil_scoped_release release;
+                part = induced_subgraph(graph, k);
+            }
+            return py::make_tuple(std::move(part.graph), column_as<std::int64_t>(part.vertex_ids), column_as<std::int64_t>(part.edge_ids));
+        },
+        py::arg("graph"), py::arg("keep"),
+        "The part of graph on the vertices where keep (N,) is True and the edges between them, with every column, in\n"
+        "graph's order: (subgraph, its vertices' ids in graph (int64), its edges' ids in graph (int64)).");
+    m.def(
+        "with_grown",
+        [](const GeometricGraph& graph, const BoolArray& keep, const IdArray& part_vertex_ids, const IdArray& part_edge_ids,
+           const GeometricGraph& grown) {
+            std::vector<bool> k = keep_arg(keep);
+            Subgraph part;
+            part.vertex_ids = ids_arg<VertexId>("part_vertex_ids", part_vertex_ids);
+            part.edge_ids = ids_arg<EdgeId>("part_edge_ids", part_edge_ids);
+            Regrown out;
+            {
+                py::gil_scoped_release release;
+                out = with_grown(graph, k, part, grown);
+            }
+            return py::make_tuple(std::move(out.graph), column_as<std::int64_t>(out.source_vertex));
+        },
+        py::arg("graph"), py::arg("keep"), py::arg("part_vertex_ids"), py::arg("part_edge_ids"), py::arg("grown"),
+        "graph cut down to the vertices where keep is True (and the edges between them), followed by what growth added\n"
+        "to a part of it: grown was grown (ggg.grow_region) from ggg.induced_subgraph(graph, ...), whose vertex and edge\n"
+        "ids are part_vertex_ids and part_edge_ids (all kept). An edge of the part that the growth split comes back\n"
+        "split. Returns (graph, source_vertex): per vertex of the result its id in graph, -1 for a grown one.");
+}
+
+// GrowOptions from ggg.grow_region's keywords (visit_grow_options names them); an unknown
+// keyword or a value of the wrong kind is a UsageError naming it.
+GrowOptions grow_options_from(const py::kwargs& keywords) {
+    GrowOptions o;
+    for (const auto& [key, value] : keywords) {
+        const std::string name = py::str(key);
+        bool known = false;
+        visit_grow_options(o, [&](std::string_view keyword, std::string_view, std::string_view, auto& field) {
+            if (keyword != name) return;
+            known = true;
+            using Field = std::remove_reference_t<decltype(field)>;
+            if constexpr (std::is_same_v<Field, bool>) {
+                try {
+                    field = value.template cast<bool>();
+                } catch (const py::cast_error&) {
+                    throw UsageError(name + ": must be True or False");
+                }
+            } else if constexpr (std::is_floating_point_v<Field>) {
+                try {
+                    field = value.template cast<double>();
+                } catch (const py::cast_error&) {
+                    throw UsageError(name + ": must be a number");
+                }
+            } else {
+                const py::object whole = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+                const unsigned long long n = whole ? PyLong_AsUnsignedLongLong(whole.ptr()) : 0;
+                if (!whole || PyErr_Occurred()) {
+                    PyErr_Clear();
+                    throw UsageError(name + ": must be a whole number from 0 to " + std::to_string(std::numeric_limits<Field>::max()) +
+                                     ", got " + py::repr(value).cast<std::string>());
+                }
+                if (n > std::numeric_limits<Field>::max()) {
+                    throw UsageError(name + ": must be a whole number from 0 to " + std::to_string(std::numeric_limits<Field>::max()));
+                }
+                field = static_cast<Field>(n);
+            }
+        });
+        if (!known) {
+            std::string names;
+            visit_grow_options(o, [&](std::string_view keyword, auto&&...) { names += (names.empty() ? "" : ", ") + std::string(keyword); });
+            throw UsageError("grow_region has no option '" + name + "' (its options: " + names + ")");
+        }
+    }
+    return o;
+}
+
+template <typename Field>
+py::object python_value(const Field& value) {
+    if constexpr (std::is_same_v<Field, bool>) return py::bool_(value);
+    else if constexpr (std::is_floating_point_v<Field>) return py::float_(value);
+    else return py::int_(value);
+}
+
+// The docstring of ggg.grow_region, its options listed from visit_grow_options.
+const std::string& grow_region_doc() {
+    static const std::string doc = [] {
+        std::string text =
+            "Grow streets into `region` ((N,2) polygon corners in the base graph's metres) with the grammar's rules, from the\n"
+            "streets of `base` that reach it (or the region's middle). placements: rules placed by hand, (symbol, x, y, scale,\n"
+            "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. progress(fraction, message) may return\n"
+            "False to cancel. Returns (Graph, report dict): the base with the grown streets after its own vertices and edges.\n"
+            "Deterministic for a seed. The options, keywords only (keyword = default: what it sets; `ggg grow`'s flags):\n";
+        const GrowOptions defaults;
+        visit_grow_options(defaults, [&](std::string_view keyword, std::string_view flag, std::string_view help, const auto& field) {
+            text += "  " + std::string(keyword) + " = " + std::string(py::str(py::repr(python_value(field)))) + ": " + std::string(help) +
+                    " (" + std::string(flag) + ")\n";
+        });
+        return text;
+    }();
+    return doc;
+}
+
+} // namespace
+
+// The defaults of ggg.grow_region's options (ggg.option_defaults()["growth"]).
+py::dict grow_option_defaults() {
+    py::dict out;
+    const GrowOptions defaults;
+    visit_grow_options(defaults, [&](std::string_view keyword, std::string_view, std::string_view, const auto& field) {
+        out[py::str(std::string(keyword))] = python_value(field);
+    });
+    return out;
+}
+
 void bind_synthesis(py::module_& m) {
     using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+    bind_graph_surgery(m);
     m.def(
         "grow_region",
-        [](const GeometricGraph& base, const Grammar& grammar, DoubleArray region, const py::int_& seed, std::int64_t max_placements,
-           std::int64_t max_vertices, std::int64_t patience, std::optional<std::vector<std::tuple<Symbol, double, double, double, double>>> placements,
-           double border_m, bool hierarchy, bool trace_streets, std::optional<py::function> progress) {
+        [](const GeometricGraph& base, const Grammar& grammar, DoubleArray region,
+           std::optional<std::vector<std::tuple<Symbol, double, double, double, double>>> placements,
+           std::optional<py::function> progress, const py::kwargs& options) {
             if (region.ndim() != 2 || region.shape(1) != 2) throw UsageError("region must have shape (N, 2): the polygon's corners in metres");
             std::vector<Vec2> ring;
             const auto r = region.unchecked<2>();
             for (py::ssize_t i = 0; i < r.shape(0); ++i) ring.emplace_back(r(i, 0), r(i, 1));
-            GrowOptions o;
-            o.seed = seed_arg(seed);
-            o.max_placements = count_arg("max_placements", max_placements, 1);
-            o.max_vertices = count_arg("max_vertices", max_vertices, 1);
-            o.patience = count_arg("patience", patience); // 0: only the rules placed by hand
-            o.border_m = border_m;
-            o.continue_hierarchy = hierarchy;
-            o.trace_streets = trace_streets;
+            GrowOptions o = grow_options_from(options);
             if (placements) {
                 for (const auto& [symbol, x, y, scale, rotation] : *placements) o.placements.push_back({symbol, Vec2(x, y), Frame{scale, rotation}});
             }
+            check_options(o);
             PythonProgress reporter(std::move(progress));
             GrowReport report;
             GeometricGraph grown = reporter.run([&](const ProgressCallback& cb) { return grow_region(base, grammar, ring, o, &report, cb); });
             py::object d = to_python(growth_report_json(report));
             return py::make_tuple(std::move(grown), d);
         },
-        py::arg("base"), py::arg("grammar"), py::arg("region"), py::arg("seed") = GrowOptions{}.seed, py::arg("max_placements") = GrowOptions{}.max_placements,
-        py::arg("max_vertices") = GrowOptions{}.max_vertices, py::arg("patience") = GrowOptions{}.patience,
-        py::arg("placements") = py::none(), py::arg("border_m") = GrowOptions{}.border_m,
-        py::arg("continue_hierarchy") = GrowOptions{}.continue_hierarchy, py::arg("trace_streets") = GrowOptions{}.trace_streets,
-        py::arg("progress") = py::none(),
-        "Grow streets into `region` ((N,2) polygon corners in the base graph's metres) with the grammar's rules, from the\n"
-        "streets of `base` that reach it (or the region's middle). placements: rules placed by hand, (symbol, x, y, scale,\n"
-        "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. border_m: how near the region a base\n"
-        "street must end to be grown from (< 0: 5 % of the region's size). continue_hierarchy: continue the main roads\n"
-        "through the grown streets at the end (see continue_hierarchy). trace_streets: first trace the streets that reach\n"
-        "the region on into it, each new junction shaped like one of the city's (rules then fill what is left). Returns (Graph, report dict): the base\n"
-        "with the grown streets after its own vertices and edges. Deterministic for a seed.");
+        py::arg("base"), py::arg("grammar"), py::arg("region"), py::kw_only(), py::arg("placements") = py::none(),
+        py::arg("progress") = py::none(), grow_region_doc().c_str());
 
     m.def(
         "continue_hierarchy",

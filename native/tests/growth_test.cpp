@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 #include <cmath>
 #include <set>
 
@@ -363,6 +364,34 @@ TEST(Growth, TracedStreetsContinueTheSeveredStreetsOfAGrid) {
         }
         EXPECT_GE(static_cast<double>(along), 0.85 * static_cast<double>(streets)) << "seed " << seed;
     }
+}
+
+} // namespace ggg
+
+namespace ggg {
+
+// The growth options are listed once (visit_grow_options): `ggg grow` offers every one as a
+// flag, and the docs name every flag and keyword.
+TEST(GrowthOptions, TheCommandLinePythonAndDocsOfferEveryOption) {
+    auto read = [](const std::string& path) {
+        std::ifstream in(path);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const std::string cli_doc = read(std::string(GGG_SOURCE_DIR) + "/docs/cli.md");
+    const std::string python_doc = read(std::string(GGG_SOURCE_DIR) + "/docs/python-api.md");
+    ASSERT_FALSE(cli_doc.empty());
+    ASSERT_FALSE(python_doc.empty());
+    const test::CliResult help = test::run_cli("grow --help");
+    ASSERT_EQ(help.code, 0) << help.err;
+    std::size_t options = 0;
+    const GrowOptions defaults;
+    visit_grow_options(defaults, [&](std::string_view keyword, std::string_view flag, std::string_view, const auto&) {
+        ++options;
+        EXPECT_NE(help.out.find(std::string(flag)), std::string::npos) << flag;
+        EXPECT_NE(cli_doc.find("`" + std::string(flag)), std::string::npos) << flag << " is not in docs/cli.md";
+        EXPECT_NE(python_doc.find("`" + std::string(keyword) + "`"), std::string::npos) << keyword << " is not in docs/python-api.md";
+    });
+    EXPECT_GE(options, 17u);
 }
 
 } // namespace ggg

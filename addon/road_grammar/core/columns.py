@@ -1,6 +1,7 @@
-"""A road graph as the columns of ``ggg.Graph.from_arrays``, and the surgery on them:
-the part of a graph on some of its vertices, a graph with what growth added appended, and
-two graphs joined side by side (Stitch Cities).
+"""A road graph as the columns of ``ggg.Graph.from_arrays``, and two of them joined side by
+side (Stitch Cities). (The surgery around a growth, the part of a graph on some of its
+vertices and the graph with what grew on it put back, is the library's:
+``ggg.induced_subgraph`` and ``ggg.with_grown``.)
 
 ``GraphColumns`` holds what a road graph object's mesh (and its surface's polylines) says
 about the graph; ``data.graph_edit.MeshGraph`` reads it from the object. Besides the graph's
@@ -11,7 +12,7 @@ so that it can follow the vertices and edges it belongs to.
 import numpy as np
 
 from .names import FRAME_A, FRAME_B, NAME, SYMBOL
-from .polylines import complete_polylines, selected_polylines
+from .polylines import complete_polylines
 
 # Point attributes that the graph carries itself (not copied from the old mesh).
 GRAPH_POINT_ATTRIBUTES = (SYMBOL, FRAME_A, FRAME_B)
@@ -51,80 +52,6 @@ class GraphColumns:
             vertex_symbols=self.symbols, vertex_frames=self.frames,
             edge_highway=highway, edge_width=self.columns.get("width"), edge_lanes=self.columns.get("lanes"),
             edge_oneway=self.columns.get("oneway"), edge_names=self.names, edge_geometry=self.geometry)
-
-
-def assembled(ggg, graph, vertex_ids, edge_ids, edges, more=None):
-    """A ggg.Graph of the vertices ``vertex_ids`` and edges ``edge_ids`` of ``graph`` with
-    all their columns (``edges``: those edges renumbered), followed by ``more`` =
-    (grown, first vertex, first edge, edges): the vertices and edges of the ggg.Graph
-    ``grown`` from those ids on (``edges``: renumbered)."""
-    parts = [(graph, np.asarray(vertex_ids, dtype=np.int64), np.asarray(edge_ids, dtype=np.int64), edges)]
-    if more is not None:
-        grown, first_vertex, first_edge, grown_edges = more
-        parts.append((grown, np.arange(first_vertex, grown.vertex_count, dtype=np.int64),
-                      np.arange(first_edge, grown.edge_count, dtype=np.int64), grown_edges))
-    columns = {name: [] for name in ("positions", "symbols", "frames", "edges", "highway", "width", "lanes", "oneway",
-                                     "names", "offsets", "points")}
-    point_count = 0
-    for part, vertices, part_edges, renumbered in parts:
-        columns["positions"].append(np.asarray(part.positions, dtype=np.float64).reshape(-1, 2)[vertices])
-        columns["symbols"].append(np.asarray(part.vertex_symbols, dtype=np.int64)[vertices])
-        columns["frames"].append(np.asarray(part.vertex_frames, dtype=np.float64).reshape(-1, 4)[vertices])
-        columns["edges"].append(np.asarray(renumbered, dtype=np.int64).reshape(-1, 2))
-        columns["highway"].append(np.asarray(part.edge_highway, dtype=np.int64)[part_edges])
-        columns["width"].append(np.asarray(part.edge_width, dtype=np.float64)[part_edges])
-        columns["lanes"].append(np.asarray(part.edge_lanes, dtype=np.int64)[part_edges])
-        columns["oneway"].append(np.asarray(part.edge_oneway, dtype=np.int64)[part_edges])
-        names = part.edge_names
-        columns["names"].extend(names[i] for i in part_edges.tolist())
-        offsets, points = selected_polylines(*part.edge_geometry(), part_edges)
-        columns["offsets"].append(offsets[1:] + point_count if columns["offsets"] else offsets + point_count)
-        columns["points"].append(points)
-        point_count += len(points)
-    joined = {name: np.concatenate(values) for name, values in columns.items() if name != "names"}
-    return ggg.Graph.from_arrays(
-        joined["positions"], joined["edges"], origin_latlon=tuple(graph.origin_latlon),
-        vertex_symbols=joined["symbols"], vertex_frames=joined["frames"], edge_highway=joined["highway"],
-        edge_width=joined["width"], edge_lanes=joined["lanes"], edge_oneway=joined["oneway"],
-        edge_names=columns["names"], edge_geometry=(joined["offsets"], joined["points"]))
-
-
-def induced_subgraph(ggg, graph, keep):
-    """The part of the ggg.Graph ``graph`` on the vertices where ``keep`` is True and the
-    edges between them, with all their columns, in ``graph``'s order: (subgraph, its
-    vertices' ids in ``graph``, its edges' ids in ``graph``)."""
-    keep = np.asarray(keep, dtype=bool)
-    vertex_ids = np.flatnonzero(keep)
-    edges = np.asarray(graph.edges, dtype=np.int64).reshape(-1, 2)
-    edge_ids = np.flatnonzero(keep[edges[:, 0]] & keep[edges[:, 1]]) if len(edges) else np.zeros(0, np.int64)
-    index = np.full(len(keep), -1, dtype=np.int64)
-    index[vertex_ids] = np.arange(len(vertex_ids))
-    return assembled(ggg, graph, vertex_ids, edge_ids, index[edges[edge_ids]]), vertex_ids, edge_ids
-
-
-def appended(ggg, graph, keep, grown, base_ids, base_edge_count):
-    """``graph`` cut down to the vertices where ``keep`` is True (and the edges between
-    them), followed by what ggg.grow_region added in ``grown``: the result of growing the
-    subgraph of ``graph`` on the vertices ``base_ids`` (all kept), whose first
-    ``base_edge_count`` edges were that subgraph's own.
-
-    Returns (graph, source_vertex): for each vertex of the result, its id in ``graph``, -1
-    for a grown one (what Replacement wants as the report's ``source_vertex``)."""
-    keep = np.asarray(keep, dtype=bool)
-    base_ids = np.asarray(base_ids, dtype=np.int64)
-    kept_ids = np.flatnonzero(keep)
-    index = np.full(len(keep), -1, dtype=np.int64)
-    index[kept_ids] = np.arange(len(kept_ids))
-    edges = np.asarray(graph.edges, dtype=np.int64).reshape(-1, 2)
-    edge_ids = np.flatnonzero(keep[edges[:, 0]] & keep[edges[:, 1]]) if len(edges) else np.zeros(0, np.int64)
-    grown_count = grown.vertex_count - len(base_ids)
-    # A vertex of ``grown``: one of the base (``base_ids``), else a new one after the kept.
-    grown_index = np.concatenate((index[base_ids], len(kept_ids) + np.arange(grown_count, dtype=np.int64)))
-    grown_edges = np.asarray(grown.edges, dtype=np.int64).reshape(-1, 2)[base_edge_count:]
-    result = assembled(ggg, graph, kept_ids, edge_ids, index[edges[edge_ids]],
-                       (grown, len(base_ids), base_edge_count, grown_index[grown_edges]))
-    source = np.concatenate((kept_ids, np.full(grown_count, -1, dtype=np.int64)))
-    return result, source
 
 
 def stacked(first, second, n_first, n_second, dtype, fill):

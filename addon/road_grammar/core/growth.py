@@ -6,8 +6,6 @@ import math
 
 import numpy as np
 
-from .columns import appended, induced_subgraph
-
 
 def fitted(report):
     """For each rule placed by hand that ggg.grow_region was given (in order), whether it was
@@ -60,7 +58,7 @@ def grow_into_region(job, ggg, old, parsed, polygon, candidates, placements, see
     # The streets grow; the nonterminals are left out (growth would take them for street
     # vertices), placed first when they are used.
     streets = old.symbols == 0
-    base, base_ids, base_edge_ids = induced_subgraph(ggg, graph, streets)
+    base, base_ids, base_edge_ids = ggg.induced_subgraph(graph, streets)
     grown, report = ggg.grow_region(
         base, parsed, polygon, seed=seed, max_placements=max_placements, max_vertices=max_vertices,
         patience=patience, placements=placements, progress=job.stage(0.02, 0.95))
@@ -70,6 +68,6 @@ def grow_into_region(job, ggg, old, parsed, polygon, candidates, placements, see
     job.step(0.95, "joining the new streets to the graph")
     keep = np.ones(len(old.positions), dtype=bool)
     keep[np.asarray(used, dtype=np.int64)] = False
-    result, source = appended(ggg, graph, keep, grown, base_ids, len(base_edge_ids))
+    result, source = ggg.with_grown(graph, keep, base_ids, base_edge_ids, grown)
     job.step(1.0, "done")
     return Grown(report, used, result, source)

@@ -77,16 +77,3 @@ def segment_polylines(points, segments, owner, edge_count):
     out[offsets[:-1][has]] = points[segments[first_segment[has], 0]]
     out[np.repeat(offsets[:-1], counts) + 1 + ramp(counts)] = points[segments[:, 1]]
     return offsets, out
-
-
-def selected_polylines(offsets, points, edge_ids):
-    """(offsets, points) of the polylines of the edges ``edge_ids`` only, in that order."""
-    offsets = np.asarray(offsets, dtype=np.int64)
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    edge_ids = np.asarray(edge_ids, dtype=np.int64)
-    starts = offsets[edge_ids]
-    counts = offsets[edge_ids + 1] - starts
-    new_offsets = np.zeros(len(edge_ids) + 1, dtype=np.int64)
-    np.cumsum(counts, out=new_offsets[1:])
-    index = np.repeat(starts, counts) + ramp(counts)
-    return new_offsets, points[index]

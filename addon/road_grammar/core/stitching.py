@@ -5,7 +5,7 @@ result."""
 
 import numpy as np
 
-from .columns import appended, induced_subgraph, joined
+from .columns import joined
 from .growth import fitted, placed_rules
 from .names import RULE_GRAMMAR
 
@@ -84,7 +84,7 @@ def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements
     left = 0
     graph = old.graph(ggg)
     streets = old.symbols == 0
-    base, base_ids, base_edge_ids = induced_subgraph(ggg, graph, streets)
+    base, base_ids, base_edge_ids = ggg.induced_subgraph(graph, streets)
     grown = base
     # The rules placed by hand go first, each with its own grammar: the other city's before
     # anything grows (patience 0: only them), the active city's at the start of its growth.
@@ -159,7 +159,7 @@ def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements
     job.step(0.95, "joining the new streets to the graph")
     keep = np.ones(len(old.positions), dtype=bool)
     keep[np.asarray(used, dtype=np.int64)] = False
-    out.result, out.source = appended(ggg, graph, keep, grown, base_ids, len(base_edge_ids))
+    out.result, out.source = ggg.with_grown(graph, keep, base_ids, base_edge_ids, grown)
     # The new streets that end on a vertex of either city.
     edges = np.asarray(out.result.edges, dtype=np.int64).reshape(-1, 2)
     out.added_edges = grown.edge_count - base.edge_count

@@ -95,3 +95,25 @@ def test_scale_modes_and_range():
     assert ggg.find_similar(two, [0, 1, 2, 3], scale="range", scale_range=(0.5, 3.0)).frequency == 2
     with pytest.raises(ggg.UsageError):
         ggg.analyze(g, scale="range", scale_range=(2.0, 1.0))
+
+
+def test_the_report_is_what_the_command_line_prints():
+    """ggg.Analysis.report and `ggg analyze` give one report: the same fields and figures."""
+    import json
+    import os
+    import subprocess
+    from pathlib import Path
+    cli = os.environ.get("GGG_CLI")
+    if not cli:
+        pytest.skip("GGG_CLI (the ggg command) is not set: run through ctest")
+    sample = Path(__file__).resolve().parents[3] / "samples" / "sample_city.osm"
+    graph = ggg.read_graph(str(sample))
+    report = ggg.analyze(graph, max_order=5).report(graph, top=3, occurrence_osm_nodes=True, orders=True)
+    printed = json.loads(subprocess.run([cli, "analyze", str(sample), "--max-order", "5", "--top", "3", "--occurrences",
+                                         "--stats"], capture_output=True, text=True, check=True).stdout)
+    for timing in ("seconds", "import_seconds", "peak_memory_mb"):
+        printed.pop(timing)
+    assert len(report["isogroups"]) == 3
+    assert all(len(ids) == iso["order"] for iso in report["isogroups"] for ids in iso["occurrence_osm_nodes"])
+    assert report["orders"][0]["order"] >= 2
+    assert report == printed

@@ -55,11 +55,19 @@ REGION = np.array([[800.0, -300.0], [1300.0, -300.0], [1300.0, 300.0], [800.0, 3
 
 @pytest.mark.parametrize("argument, value", [
     ("seed", 2 ** 64), ("seed", -1), ("max_placements", 0), ("max_vertices", -5), ("patience", -1),
-    ("border_m", math.nan), ("border_m", math.inf),
+    ("border_m", math.nan), ("border_m", math.inf), ("prune_stubs", -1.0), ("size_jitter", 1.0), ("trace_streets", "yes"),
+    ("snap", "near"),
 ])
 def test_grow_region_refuses_values_that_mean_nothing(town, town_grammar, argument, value):
     with pytest.raises(ValueError, match="^" + argument):
         ggg.grow_region(town, town_grammar, REGION, **{argument: value})
+
+
+def test_grow_region_names_its_options_for_an_unknown_one(town, town_grammar):
+    with pytest.raises(ValueError, match="no option 'max_placement'.*max_placements"):
+        ggg.grow_region(town, town_grammar, REGION, max_placement=5)
+    assert set(ggg.option_defaults()["growth"]) >= {"seed", "max_placements", "prune_stubs", "trace_streets"}
+    assert "prune_stubs = 0.75" in ggg.grow_region.__doc__
 
 
 def test_grow_region_takes_the_largest_seed_and_refuses_a_region_without_area(town, town_grammar):

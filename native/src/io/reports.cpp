@@ -8,6 +8,58 @@
 
 namespace ggg {
 
+nlohmann::json detection_orders_json(const std::vector<OrderReport>& orders) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const OrderReport& r : orders) {
+        out.push_back({{"order", r.order},
+                       {"parents", r.parents},
+                       {"candidates", r.candidates},
+                       {"children", r.children},
+                       {"groups", r.groups},
+                       {"expanded_next", r.expanded_next},
+                       {"occurrences", r.occurrences}});
+    }
+    return out;
+}
+
+nlohmann::json analysis_report_json(const GeometricGraph& graph, const Analysis& analysis,
+                                    const AnalysisReportOptions& options) {
+    nlohmann::json groups = nlohmann::json::array();
+    const std::size_t shown = options.top == 0 ? analysis.isogroups.size() : std::min(options.top, analysis.isogroups.size());
+    for (std::size_t i = 0; i < shown; ++i) {
+        const AnalyzedIsogroup& a = analysis.isogroups[i];
+        nlohmann::json j{{"order", a.group.order()},
+                         {"edge_count", a.group.pattern.edges.size()},
+                         {"occurrences", a.group.frequency()},
+                         {"non_overlapping", a.selection.non_overlapping.size()},
+                         {"score", a.score},
+                         {"gain", a.selection.gain},
+                         {"selection_exact", a.selection.exact},
+                         {"parent", a.parent},
+                         {"size_m", a.group.pattern.metres_per_unit},
+                         {"recounted", a.recounted}};
+        if (options.occurrence_osm_nodes) {
+            nlohmann::json list = nlohmann::json::array();
+            for (std::size_t o = 0; o < a.group.frequency(); ++o) {
+                nlohmann::json ids = nlohmann::json::array();
+                for (VertexId v : a.group.occurrence(o)) {
+                    const auto index = static_cast<std::size_t>(v);
+                    ids.push_back(index < graph.vertex_osm_ids.size() ? graph.vertex_osm_ids[index] : 0);
+                }
+                list.push_back(std::move(ids));
+            }
+            j["occurrence_osm_nodes"] = std::move(list);
+        }
+        groups.push_back(std::move(j));
+    }
+    nlohmann::json out{{"graph", {{"vertices", graph.vertex_count()}, {"edges", graph.edge_count()}}},
+                       {"detected", analysis.detected},
+                       {"stopped_by_budget", analysis.stopped_by_budget},
+                       {"isogroups", std::move(groups)}};
+    if (options.orders) out["orders"] = detection_orders_json(analysis.orders);
+    return out;
+}
+
 nlohmann::json growth_report_json(const GrowReport& r) {
     nlohmann::json hand = nlohmann::json::array();
     for (const PlacementOutcome outcome : r.hand_placements) hand.push_back(std::string(outcome_name(outcome)));

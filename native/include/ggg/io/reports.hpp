@@ -3,6 +3,7 @@
 // CLI prints and the Python module returns as a dict (docs/cli.md lists them).
 #include <nlohmann/json.hpp>
 
+#include "ggg/analysis/analyzer.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/grammar/grammar.hpp"
 #include "ggg/grammar/rewriting.hpp"
@@ -13,6 +14,24 @@
 #include "ggg/synthesis/street_hierarchy.hpp"
 
 namespace ggg {
+
+// What an analysis report holds besides its isogroups' figures.
+struct AnalysisReportOptions {
+    std::size_t top = 0;               // only the best this many isogroups (0 = all)
+    bool occurrence_osm_nodes = false; // each isogroup's occurrences as the OSM node ids of their vertices
+    bool orders = false;               // the per-order counts of the detection
+};
+
+// `ggg analyze`'s report (ggg.Analysis.report): graph {vertices, edges}, detected,
+// stopped_by_budget, and the isogroups, best first, each with order, edge_count,
+// occurrences, non_overlapping, score, gain, selection_exact, parent, size_m, recounted
+// (and occurrence_osm_nodes); with `orders`, detection_orders_json.
+nlohmann::json analysis_report_json(const GeometricGraph& graph, const Analysis& analysis,
+                                    const AnalysisReportOptions& options = {});
+
+// The detection's counts per order: order, parents, candidates, children, groups,
+// expanded_next, occurrences.
+nlohmann::json detection_orders_json(const std::vector<OrderReport>& orders);
 
 // Every field of GrowReport, flat: "placements", "rejected_crossing", "traced_streets", ...
 nlohmann::json growth_report_json(const GrowReport& report);

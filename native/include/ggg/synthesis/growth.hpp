@@ -79,6 +79,43 @@ struct GrowOptions {
     std::vector<RulePlacement> placements; // rules placed by hand, grown from first
 };
 
+// Every option of growth but the placements, as the CLI and Python offer it: visit(keyword,
+// flag, help, field) for each, where keyword is ggg.grow_region's, flag is `ggg grow`'s (a bool
+// whose flag starts with "--no-" is turned off by it) and field is a reference into `options`.
+// The flags, the keywords, their defaults (ggg.option_defaults) and the docs' tables are made
+// from this list, so a new option is a field of GrowOptions, a line here, its range in
+// check_options, and its use.
+template <typename Options, typename Visit> // Options: GrowOptions or const GrowOptions
+void visit_grow_options(Options& o, Visit&& visit) {
+    visit("seed", "--seed", "Seed of the random choices: the same seed gives the same streets", o.seed);
+    visit("max_placements", "--max-placements", "Most rules placed", o.max_placements);
+    visit("max_vertices", "--max-vertices", "Most vertices in the result, the base included", o.max_vertices);
+    visit("patience", "--patience",
+          "Failed placements in a row after which the region counts as full (0: only the rules placed by hand)", o.patience);
+    visit("border_m", "--border", "How near the region (metres) a base street must end to be grown from; < 0: 5 % of its size",
+          o.border_m);
+    visit("snap", "--snap", "A placed vertex this close to a street vertex (relative to the rule's size) becomes that vertex", o.snap);
+    visit("spacing", "--spacing", "New vertices keep this fraction of the rule's typical edge length from other vertices", o.spacing);
+    visit("turn_deg", "--turn", "Random turn (degrees) of each placement around its aim", o.turn_deg);
+    visit("size_jitter", "--size-jitter", "Random relative size change of each placement (0 to below 1)", o.size_jitter);
+    visit("default_size_m", "--default-size", "Size (metres per unit) of a rule without a learned size (hand-written grammars)",
+          o.default_size_m);
+    visit("grid_tolerance_deg", "--grid-tolerance",
+          "In a grid city, square rules keep to the grid around within this many degrees (0: any turn)", o.grid_tolerance_deg);
+    visit("block_preference", "--block-preference", "How much more often a rule with a block is chosen: weight x (1 + this x cycles)",
+          o.block_preference);
+    visit("smallest_block", "--smallest-block",
+          "No new street closes a block smaller than six tenths of this quantile of the city's blocks (0: any)", o.smallest_block);
+    visit("close_dead_ends", "--close-dead-ends",
+          "Join dead ends to a vertex ahead within this multiple of the typical grown edge length", o.close_dead_ends);
+    visit("prune_stubs", "--prune-stubs", "Cut off grown dead ends shorter than this fraction of the typical grown street (0: keep)",
+          o.prune_stubs);
+    visit("continue_hierarchy", "--no-main-roads", "Do not continue the main roads that reach the grown streets through them",
+          o.continue_hierarchy);
+    visit("trace_streets", "--no-tracing", "Grow with rules alone: do not first trace the streets that reach the region on into it",
+          o.trace_streets);
+}
+
 // What became of one rule placed by hand: placed, or why it did not fit (a rule that does
 // not fit changes nothing, so a user can be told which of their rules were used).
 enum class PlacementOutcome : std::uint8_t {
