@@ -16,7 +16,7 @@ from conftest import (PanelLayout, cancel_at_first_progress, draw_panel, record_
 from road_grammar.core.names import LEARNED_FROM_KEY
 from road_grammar.core.palette import DIMMED_SLOT
 from road_grammar.core.text import plural
-from road_grammar.data import analysis, learning, texts
+from road_grammar.data import analysis, texts
 from road_grammar.data import mesh as mesh_build
 from road_grammar.display import patterns as pattern_display
 from road_grammar.display import rules as rule_display
@@ -410,7 +410,7 @@ def test_show_level_errors(town, ggg, op_results):
     assert np.array_equal(display_arrays(town)[1][rule_display.EDGE_RULE], before[rule_display.EDGE_RULE])
     # The slider cannot report: the panel says why.
     result.level = 0
-    assert "is not a valid grammar" in learning.display_problems[town.name]
+    assert "is not a valid grammar" in rule_display.display_problems[town.name]
     assert op_results[:1] == [{'CANCELLED'}] and op_results[-1] == {'CANCELLED'}
 
 

@@ -13,6 +13,9 @@ packages=(
   # Blender opens OpenGL at run time (libepoxy); headless Eevee renders and the windowed
   # undo test under Xvfb need Mesa's software renderer, which Blender does not depend on.
   libgl1 libegl1 libglx-mesa0 libegl-mesa0 libgl1-mesa-dri
+  # The windowed render test presses Esc as a keyboard does (XTest): Blender stops its render
+  # job on a real key only.
+  libxtst6
   # The 3-D city: Clipper polygon clipping (native), PIL for the docs pictures' palettes.
   libpolyclipping-dev python3-pil
   # libFuzzer harnesses (cmake -DGGG_FUZZ=ON, scripts/fuzz.sh): clang 14 with its sanitizer

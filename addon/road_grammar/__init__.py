@@ -48,7 +48,8 @@ import bpy
 from bpy.props import PointerProperty
 
 from . import operators, properties, ui
-from .data import analysis, learning, texts
+from .data import analysis, texts
+from .display import rules
 from .operators import jobs
 
 PACKAGES = (properties, operators, ui)
@@ -86,5 +87,5 @@ def unregister():
         bpy.utils.unregister_class(cls)
     # What is kept in memory besides the .blend.
     analysis.forget()
-    learning.forget()
+    rules.forget()
     texts.forget()

@@ -1,4 +1,5 @@
-"""core.jobs: a native call in a worker thread, its progress and its cancelling."""
+"""core.jobs: a native call in a worker thread, its progress and its cancelling; what Blender's
+render job did, as its handlers tell (RenderProgress)."""
 
 import threading
 
@@ -122,3 +123,64 @@ def test_a_cancelled_stage_tells_the_library_to_stop():
     job.start()
     job.join()
     assert job.result is False and job.cancelled
+
+
+# --- RenderProgress: Blender's render job, from its handlers -------------------------------------
+
+def test_a_render_that_writes_every_frame_is_rendered():
+    render = jobs.RenderProgress("/out/flythrough.mp4", 3)
+    assert (render.name, render.message, render.fraction) == ("flythrough.mp4", "frame 1 of 3", 0.0)
+    render.on_write(None)  # (Blender passes the scene, and may pass more)
+    assert (render.message, render.fraction) == ("frame 2 of 3", 1 / 3)
+    render.on_write(None, None)
+    render.on_write()
+    assert (render.message, render.fraction) == ("finishing", 1.0)
+    render.on_complete(None)
+    assert not render.cancelled
+    assert render.outcome(True) == ('INFO', "Rendered /out/flythrough.mp4")
+    # Done, but the file is not there.
+    assert render.outcome(False) == ('ERROR', "Rendering wrote no file /out/flythrough.mp4")
+
+
+def test_a_still_is_one_frame():
+    render = jobs.RenderProgress("/out/city.png", 0)
+    assert render.frames == 1 and render.message == "frame 1 of 1"
+    render.on_write(None)
+    render.on_complete(None)
+    assert render.outcome(True) == ('INFO', "Rendered /out/city.png")
+
+
+def test_a_cancelled_render_says_how_far_it_got():
+    render = jobs.RenderProgress("/out/flythrough.mp4", 72)
+    for _ in range(5):
+        render.on_write(None)
+    render.on_cancel(None)
+    assert render.cancelled
+    assert render.outcome(True) == ('WARNING', "Rendering /out/flythrough.mp4 was cancelled after 5 of 72 frames")
+    still = jobs.RenderProgress("/out/city.png", 1)
+    still.on_cancel(None)
+    assert still.outcome(False) == ('WARNING', "Rendering /out/city.png was cancelled")
+
+
+def test_esc_counts_as_cancelled_unless_every_frame_was_written():
+    render = jobs.RenderProgress("/out/flythrough.mp4", 4)
+    render.on_write(None)
+    render.cancel()  # Esc: Blender stops its render job itself
+    assert render.cancelled
+    render.on_complete(None)
+    assert render.outcome(True) == ('WARNING', "Rendering /out/flythrough.mp4 was cancelled after 1 of 4 frames")
+    # Esc came too late to stop anything: the file is complete.
+    late = jobs.RenderProgress("/out/flythrough.mp4", 2)
+    late.on_write(None)
+    late.on_write(None)
+    late.cancel()
+    late.on_complete(None)
+    assert late.outcome(True) == ('INFO', "Rendered /out/flythrough.mp4")
+
+
+def test_a_render_that_ended_early_is_an_error():
+    render = jobs.RenderProgress("/out/flythrough.mp4", 10)
+    for _ in range(4):
+        render.on_write(None)
+    render.on_complete(None)  # (a render job stopped from outside still says "complete")
+    assert render.outcome(True) == ('ERROR', "Rendering /out/flythrough.mp4 stopped with 4 of 10 frames written")

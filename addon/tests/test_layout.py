@@ -1,6 +1,7 @@
 """The add-on's layout (read from its source, nothing imported): core is pure Python, the
-layers import only downwards, no module imports another's private names or takes part in an
-import cycle, and every Blender class is registered through its module's ``classes``."""
+layers import only downwards (display draws what data holds: display may import data, data
+never imports display), no module imports or reads another's private names or takes part in
+an import cycle, and every Blender class is registered through its module's ``classes``."""
 
 import ast
 import sys
@@ -12,7 +13,7 @@ ADDON = Path(__file__).resolve().parent.parent / "road_grammar"
 PACKAGE = "road_grammar"
 # Each layer may import from itself and the layers before it.
 LAYERS = ("core", "data", "display", "properties", "operators", "ui")
-LEVEL = {"core": 0, "data": 1, "display": 1, "properties": 2, "operators": 3, "ui": 4}
+LEVEL = {layer: level for level, layer in enumerate(LAYERS)}
 REGISTERED = ("properties", "operators", "ui")
 BLENDER_CLASS_PREFIXES = ("ROADS_OT_", "ROADS_PT_", "ROADS_PG_", "ROADS_UL_", "ROADS_AP_", "ROADS_MT_", "VIEW3D_PT_")
 
@@ -35,15 +36,15 @@ def tree(name):
     return ast.parse(MODULES[name].read_text(), str(MODULES[name]))
 
 
-def imports(name):
-    """(imported module, names or None, private names) of every import in ``name``'s
-    source, with relative imports resolved; a name that is a module of the add-on counts as
-    that module."""
+def _resolved_imports(name):
+    """(imported module, name or None, the name it is bound to) of every import in
+    ``name``'s source, with relative imports resolved; a name that is a module of the add-on
+    counts as that module."""
     base = name if is_package(name) else name.rpartition(".")[0]
     found = []
     for node in ast.walk(tree(name)):
         if isinstance(node, ast.Import):
-            found.extend((alias.name, None) for alias in node.names)
+            found.extend((alias.name, None, alias.asname or alias.name.partition(".")[0]) for alias in node.names)
         elif isinstance(node, ast.ImportFrom):
             if node.level:
                 parent = base
@@ -55,10 +56,23 @@ def imports(name):
             for alias in node.names:
                 submodule = source + "." + alias.name
                 if submodule in MODULES:
-                    found.append((submodule, None))
+                    found.append((submodule, None, alias.asname or alias.name))
                 else:
-                    found.append((source, alias.name))
+                    found.append((source, alias.name, alias.asname or alias.name))
     return found
+
+
+def imports(name):
+    """(imported module, name or None) of every import in ``name``'s source, with relative
+    imports resolved; a name that is a module of the add-on counts as that module."""
+    return [(module, imported) for module, imported, _bound in _resolved_imports(name)]
+
+
+def module_aliases(name):
+    """The names under which ``name`` binds modules of the add-on (``from ..data import
+    roads``, ``from . import mesh as mesh_data``): bound name -> module."""
+    return {bound: module for module, imported, bound in _resolved_imports(name)
+            if imported is None and module in MODULES}
 
 
 def internal_dependencies(name):
@@ -90,11 +104,28 @@ def test_layers_import_downwards(name):
             name, layer(name), module, layer(module))
 
 
+def is_private(attribute):
+    return attribute.startswith("_") and not (attribute.startswith("__") and attribute.endswith("__"))
+
+
 @pytest.mark.parametrize("name", sorted(MODULES))
 def test_no_private_imports(name):
-    """No module takes another's private names (``from .x import _name``)."""
+    """No module takes another's private names (``from .x import _name``), nor reads them
+    through the module (``from . import x`` then ``x._name``)."""
     for module, imported in imports(name):
-        assert not (imported or "").startswith("_"), "{} imports {} from {}".format(name, imported, module)
+        assert not is_private(imported or ""), "{} imports {} from {}".format(name, imported, module)
+    aliases = module_aliases(name)
+    for node in ast.walk(tree(name)):
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in aliases:
+            assert not is_private(node.attr), "{} uses {} of {} (line {})".format(
+                name, node.attr, aliases[node.value.id], node.lineno)
+
+
+def test_data_does_not_import_display():
+    """display draws what data holds, so it imports data; data never imports display (the
+    levels above say so; this names the rule)."""
+    for name in sorted(n for n in MODULES if layer(n) == "data"):
+        assert not [m for m in internal_dependencies(name) if layer(m) == "display"], name
 
 
 def test_no_import_cycles():

@@ -1,13 +1,20 @@
 """Long native calls (Analyze, Learn, Grow into Region, Stitch Cities, Build City) in a
-worker thread.
+worker thread, and what Blender's own render job did for Render City.
 
 The native functions release the GIL; the thread touches no Blender data: its progress
 callback (``NativeJob.__call__``) only records the fraction and message and returns False
 once the user cancelled. ``operators.jobs.ModalJobOperator`` runs one from the UI.
+
+Blender renders in a thread of its own and calls the render handlers from it; a
+``RenderProgress`` takes those calls and, like the progress callback, only records them
+(``operators.jobs.ModalRenderOperator`` watches a render from the UI).
 """
 
+import os
 import threading
 import time
+
+from .text import plural
 
 
 class NativeJob:
@@ -150,3 +157,68 @@ class StepsJob(NativeJob):
         """Raise ggg.Cancelled once the user cancelled."""
         if self.cancelled:
             raise self._ggg.Cancelled("cancelled")
+
+
+class RenderProgress:
+    """What Blender's render job has done for one render to ``path`` of ``frames`` frames (1
+    for a still), as its handlers tell: ``on_write`` (render_write: a frame is in the file),
+    ``on_complete`` (render_complete) and ``on_cancel`` (render_cancel: the render was
+    stopped, by Esc or an error). Blender calls them from its render thread: they only
+    record, and the operator reads the record on the main thread. ``cancel`` notes that the
+    user pressed Esc (Blender stops its render job itself)."""
+
+    def __init__(self, path, frames):
+        self.path = path
+        self.frames = max(1, int(frames))
+        self.written = 0
+        self.completed = False
+        self.stopped = False
+        self._escaped = False
+
+    def on_write(self, *_args):
+        self.written += 1
+
+    def on_complete(self, *_args):
+        self.completed = True
+
+    def on_cancel(self, *_args):
+        self.stopped = True
+
+    def cancel(self):
+        self._escaped = True
+
+    @property
+    def cancelled(self):
+        """The user pressed Esc, or Blender said the render was cancelled."""
+        return self._escaped or self.stopped
+
+    @property
+    def name(self):
+        """The file's name, for the status bar."""
+        return os.path.basename(self.path)
+
+    @property
+    def fraction(self):
+        return min(self.written / self.frames, 1.0)
+
+    @property
+    def message(self):
+        if self.written >= self.frames:
+            return "finishing"
+        return "frame {} of {}".format(self.written + 1, self.frames)
+
+    def outcome(self, file_exists):
+        """(report type, message) once the render job has ended; ``file_exists``: whether
+        ``path`` is there. 'INFO' when every frame was written, 'WARNING' when the render
+        was cancelled, 'ERROR' when it ended without writing them all."""
+        if self.completed and not self.stopped and self.written >= self.frames and file_exists:
+            return 'INFO', "Rendered {}".format(self.path)
+        if self.cancelled:
+            if self.frames == 1:
+                return 'WARNING', "Rendering {} was cancelled".format(self.path)
+            return 'WARNING', "Rendering {} was cancelled after {} of {}".format(
+                self.path, self.written, plural(self.frames, "frame"))
+        if not file_exists:
+            return 'ERROR', "Rendering wrote no file {}".format(self.path)
+        return 'ERROR', "Rendering {} stopped with {} of {} written".format(
+            self.path, self.written, plural(self.frames, "frame"))

@@ -26,6 +26,8 @@ needs) are not saved: the last analysis keeps them in memory (``remember``), and
 ``live_isogroup`` gives back the one of a stored item, running the same analysis again
 when they are gone (after reopening the file or analysing another graph) or no longer fit
 (vertices moved), and checking that it finds the same occurrences.
+
+display.patterns shows a stored result (``show_overview``, ``show_isogroup``).
 """
 
 import json
@@ -35,10 +37,8 @@ import numpy as np
 
 from ..core.analysis import NON_OVERLAPPING, OCCURRENCES, PATTERN_EDGES, StaleAnalysis, options_json, same_occurrences
 from ..core.names import SYMBOL
-from ..core.palette import MATCH_SLOT
-from ..core.topology import EdgeLookup, positions_digest, topology_checksum
+from ..core.topology import positions_digest, topology_checksum
 from ..core.updates import suspended_updates
-from ..display import patterns
 from . import mesh as mesh_data
 
 
@@ -270,54 +270,3 @@ def live_isogroup(ggg, obj, index, topology=None, progress=None):
     _live.clear()
     _live[obj.name] = (key, list(groups))
     return groups[index]
-
-
-def show_isogroup(obj, index, select=True, only_non_overlapping=False):
-    """Colour the occurrences of stored isogroup ``index`` (its overview colour, or the
-    match colour when it has none) and select their vertices. Returns (occurrences shown,
-    vertices selected)."""
-    topology = check_current(obj)
-    result = obj.road_analysis
-    if not 0 <= index < len(result.isogroups):
-        raise StaleAnalysis("{} has no isogroup {}".format(obj.name, index + 1))
-    occurrences, non_overlapping, pattern_edges = isogroup_arrays(obj, index)
-    if only_non_overlapping:
-        occurrences = occurrences[non_overlapping]
-    slot = result.isogroups[index].color_slot or MATCH_SLOT
-    lookup = EdgeLookup(topology.edges, topology.vertex_count)
-    slots = np.zeros(len(topology.edges), dtype=np.int32)
-    slots[lookup.occurrence_edges(occurrences, pattern_edges).ravel()] = slot
-    vertex_mask = None
-    if select:
-        vertex_mask = np.zeros(topology.vertex_count, dtype=bool)
-        vertex_mask[occurrences.ravel()] = True
-    patterns.write(obj, slots, vertex_mask, topology)
-    return len(occurrences), 0 if vertex_mask is None else int(vertex_mask.sum())
-
-
-def show_overview(obj, count=None):
-    """Colour the graph by isogroup (paper Fig. 13): the non-overlapping occurrences of each
-    of the first ``count`` coloured isogroups in its own colour, the best ones first (an
-    occurrence is coloured only where no better isogroup was). Returns the number of
-    occurrences coloured."""
-    topology = check_current(obj)
-    result = obj.road_analysis
-    lookup = EdgeLookup(topology.edges, topology.vertex_count)
-    slots = np.zeros(len(topology.edges), dtype=np.int32)
-    shown = 0
-    for index, item in enumerate(result.isogroups):
-        if item.color_slot <= 0 or (count is not None and item.color_slot > count):
-            continue
-        occurrences, non_overlapping, pattern_edges = isogroup_arrays(obj, index)
-        if len(pattern_edges) == 0 or len(non_overlapping) == 0:
-            continue
-        edge_ids = lookup.occurrence_edges(occurrences[non_overlapping], pattern_edges)
-        # Non-overlapping occurrences share no vertex, hence no edge: testing them all at
-        # once against the colours so far is exact.
-        free = (slots[edge_ids] == 0).all(axis=1)
-        slots[edge_ids[free].ravel()] = item.color_slot
-        shown += int(free.sum())
-    patterns.write(obj, slots, None, topology)
-    with suspended_updates():
-        result.active_index = -1
-    return shown

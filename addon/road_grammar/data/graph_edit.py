@@ -2,8 +2,10 @@
 
 ``MeshGraph`` reads the object's mesh, and the edge polylines of its surface, into the
 columns of ggg.Graph.from_arrays; ``Replacement`` puts a derived graph back into the same
-mesh datablock and rebuilds the surface from the graph's own columns, as an import does.
-Everything is computed before the first change, so an error leaves the object as it was.
+mesh datablock and rebuilds the surface from the graph's own columns, as an import does
+(display.road_objects.rewrite writes it, with the Rule Frames modifier when it has
+nonterminals). Everything is computed before the first change, so an error leaves the
+object as it was.
 (Cutting a ggg.Graph down to some of its vertices, adding what ggg.grow_region grew and
 joining two graphs' columns: core.columns.)
 
@@ -109,7 +111,8 @@ def surface_polylines(graph_obj, positions, edges):
 
 class Replacement:
     """The new contents of a road graph object (and its surface) from a derived graph,
-    computed without touching Blender data; ``apply`` writes them.
+    computed without touching Blender data; ``new_surface_mesh`` and ``apply`` write them
+    (display.road_objects.rewrite calls both).
 
     ``old`` is the MeshGraph the derivation started from, ``result`` and ``report`` what
     ggg.derive returned (of the report, only ``source_vertex`` is read: Grow into Region
@@ -147,33 +150,31 @@ class Replacement:
         self.offsets, self.points = result.edge_geometry()
         self.total_length_m = float(result.total_length_m)
 
-    def apply(self, context):
-        """Write the new graph into the object's mesh and rebuild its surface."""
-        created = roads.Created()
-        try:
-            new_surface_mesh = None
-            if self.surface_obj is not None:
-                points, segments, attributes = roads.surface_geometry(
-                    self.positions, self.edges, self.offsets, self.points, self.edge_attributes)
-                new_surface_mesh = created.add(mesh_data.new_edge_mesh(
-                    self.surface_obj.data.name, points, segments, attributes))
-            if self.with_frames:
-                roads.add_frames_modifier(self.graph_obj, created)
-        except BaseException:
-            created.remove_all()
-            raise
+    def new_surface_mesh(self, created):
+        """The mesh of the rebuilt surface (remembered in ``created``, a roads.Created), else
+        None when the object has no surface. Nothing else changes."""
+        if self.surface_obj is None:
+            return None
+        points, segments, attributes = roads.surface_geometry(
+            self.positions, self.edges, self.offsets, self.points, self.edge_attributes)
+        return created.add(mesh_data.new_edge_mesh(self.surface_obj.data.name, points, segments, attributes))
+
+    def apply(self, surface_mesh):
+        """Write the new graph into the object's mesh and give its surface ``surface_mesh``
+        (from ``new_surface_mesh``, made before anything changes, as is what draws the
+        nonterminals when ``with_frames``)."""
         mesh = self.graph_obj.data
         mesh_data.fill_edge_mesh(mesh, self.positions, self.edges, self.edge_attributes, self.point_attributes)
         mesh_data.write_flags(mesh.vertices, self.vertex_flags)
         mesh_data.write_flags(mesh.edges, self.edge_flags)
         self.graph_obj["total_length_m"] = self.total_length_m
-        if new_surface_mesh is not None:
+        if surface_mesh is not None:
             old_mesh = self.surface_obj.data
             name = old_mesh.name
-            self.surface_obj.data = new_surface_mesh
+            self.surface_obj.data = surface_mesh
             if old_mesh.users == 0:
                 bpy.data.meshes.remove(old_mesh)
-                new_surface_mesh.name = name
+                surface_mesh.name = name
 
 
 @contextlib.contextmanager

@@ -1,24 +1,15 @@
 """A learned grammar on its road graph (inverse procedural modelling, paper 6): kept as the
-result of the object's last Learn (``object.road_learning``, properties.learning) and shown
-level by level (display.rules).
-
-An update cannot report, so a level that cannot be shown is remembered in
-``display_problems`` for the panel.
+result of the object's last Learn (``object.road_learning``, properties.learning). It is
+shown level by level by display.rules (``show_learned``).
 """
 
 import json
 
 import bpy
 
-from ..core import native
-from ..core.levels import DisplayError
 from ..core.names import LEARNED_FROM_KEY
 from ..core.palette import rule_slot
 from ..core.updates import suspended_updates
-from ..display import rules
-
-# Object name -> why its level could not be shown (for the panel).
-display_problems = {}
 
 
 def text_for(obj):
@@ -63,27 +54,3 @@ def store(context, obj, parsed, content, stats, parameters, seconds, topology):
             item.color_slot = rule_slot(index)
         result.level = result.levels
     return text
-
-
-def show(obj):
-    """Show the level and chosen rule of ``obj``'s learning in its rules object. Returns
-    the LevelView shown; raises DisplayError (or native.NativeModuleError)
-    after remembering the problem for the panel."""
-    result = obj.road_learning
-    try:
-        if result.text is None:
-            raise DisplayError("{} has no learned grammar: run Learn first".format(obj.name))
-        view = rules.level_view(result.text, result.level)
-        rules.show(obj, view, result.highlighted_symbol())
-    except (DisplayError, native.NativeModuleError) as ex:
-        display_problems[obj.name] = str(ex)
-        raise
-    display_problems.pop(obj.name, None)
-    return view
-
-
-def forget():
-    """Drop what is kept in memory: the problems for the panel and the levels computed (the
-    add-on is being disabled)."""
-    display_problems.clear()
-    rules.forget_cache()

@@ -1,5 +1,6 @@
 """Road graph objects: a road graph (ggg.Graph) -> Blender objects, the road graph of an
-object, the ones selected, and removing one with what belongs to it.
+object, the ones selected, and removing one with what belongs to it. (The modifiers that
+draw them are display's; display.road_objects makes the objects with them.)
 
 Two objects per graph, linked to the active collection:
 
@@ -23,7 +24,6 @@ import numpy as np
 from ..core.names import (CLASSES_KEY, FRAME_A, FRAME_B, GRAPH_KEY, NAME, PATTERNS_KEY, RULES_KEY, SURFACE_EDGE,
                           SURFACE_KEY, SYMBOL)
 from ..core.polylines import polyline_segments
-from ..display import frames, surface
 from . import mesh
 
 
@@ -89,6 +89,16 @@ class Created:
 
     def add(self, datablock):
         self.items.append(datablock)
+        return datablock
+
+    def shared(self, make):
+        """A shared node group or material from ``make`` (which finds or creates it),
+        remembered as created when ``make`` created it."""
+        groups_before = set(bpy.data.node_groups.keys())
+        materials_before = set(bpy.data.materials.keys())
+        datablock = make()
+        if datablock.name not in (groups_before if isinstance(datablock, bpy.types.NodeTree) else materials_before):
+            self.add(datablock)
         return datablock
 
     def remove_all(self):
@@ -202,70 +212,31 @@ def surface_geometry(positions, edges, offsets, points, edge_attributes):
     return points, segments, attributes
 
 
-def build(context, graph, classes, widths, name, source, options, with_surface=True, progress=None,
-          target=None, with_frames=None, properties=None):
-    """Create the road objects for ``graph``; returns (graph object, surface object or None).
-    Either everything is created or nothing is.
-
-    ``target`` (a georef.Target) places the object and sets the scene's georeference for
-    the first graph; ``with_frames`` adds the nonterminal attributes and the Rule Frames
-    modifier (default: when the graph has nonterminals); ``properties`` are more custom
-    properties of the graph object."""
-    created = Created()
-    try:
-        return _build(context, graph, classes, widths, name, source, options, with_surface, progress,
-                      target, with_frames, properties, created)
-    except BaseException:
-        created.remove_all()
-        raise
+def has_nonterminals(graph):
+    """Whether ``graph`` has a nonterminal vertex (symbol > 0)."""
+    return bool(np.any(np.asarray(graph.vertex_symbols) != 0))
 
 
-def _shared(created, make):
-    """A shared node group or material, remembered as created when ``make`` created it."""
-    groups_before = set(bpy.data.node_groups.keys())
-    materials_before = set(bpy.data.materials.keys())
-    datablock = make()
-    if datablock.name not in (groups_before if isinstance(datablock, bpy.types.NodeTree) else materials_before):
-        created.add(datablock)
-    return datablock
+def new_objects(graph, classes, widths, name, source, options, created, with_surface=True, with_frames=False,
+                location=(0.0, 0.0), properties=None, step=None):
+    """The objects of ``graph``: (graph object, surface object or None), not yet linked to a
+    collection; every datablock made is remembered in ``created``.
 
+    ``with_frames`` adds the nonterminal point attributes, ``location`` places the object,
+    ``properties`` are more custom properties of the graph object; ``step(fraction,
+    message)`` is told the progress."""
+    def report(fraction, message):
+        if step is not None:
+            step(fraction, message)
 
-def add_surface_modifier(surface_obj, created):
-    group = _shared(created, surface.node_group)
-    mat = _shared(created, surface.material)
-    surface.add_modifier(surface_obj, group, mat)
-
-
-def add_frames_modifier(graph_obj, created):
-    """The Rule Frames modifier on ``graph_obj`` (once); the graph object then renders."""
-    if frames.find_modifier(graph_obj) is not None:
-        return
-    group = _shared(created, frames.node_group)
-    mat = _shared(created, frames.material)
-    frames.add_modifier(graph_obj, group, mat)
-    graph_obj.hide_render = False
-
-
-def _build(context, graph, classes, widths, name, source, options, with_surface, progress, target,
-           with_frames, properties, created):
-    def step(fraction, message):
-        if progress is not None:
-            progress.step(fraction, message)
-
-    scene = context.scene
     lat, lon = (float(v) for v in graph.origin_latlon)
-    location = target.location if target is not None else (0.0, 0.0)
-
-    step(0.0, "graph mesh")
+    report(0.0, "graph mesh")
     positions = np.asarray(graph.positions, dtype=np.float64)
     edges = np.asarray(graph.edges, dtype=np.int32)
-    symbols = np.asarray(graph.vertex_symbols)
-    if with_frames is None:
-        with_frames = bool(np.any(symbols != 0))
     edge_attributes = graph_edge_attributes(graph, widths)
     graph_mesh = created.add(mesh.new_edge_mesh(
         name, positions, edges, edge_attributes,
-        vertex_attributes(symbols, graph.vertex_frames) if with_frames else None))
+        vertex_attributes(graph.vertex_symbols, graph.vertex_frames) if with_frames else None))
     graph_obj = created.add(bpy.data.objects.new(name, graph_mesh))
     graph_obj[GRAPH_KEY] = 1
     graph_obj[CLASSES_KEY] = {class_name: code for code, class_name in enumerate(classes)}
@@ -282,22 +253,23 @@ def _build(context, graph, classes, widths, name, source, options, with_surface,
 
     surface_obj = None
     if with_surface:
-        step(0.3, "surface polylines")
+        report(0.3, "surface polylines")
         offsets, points = graph.edge_geometry()
         points, segments, attributes = surface_geometry(positions, edges, offsets, points, edge_attributes)
-        surface_mesh = created.add(mesh.new_edge_mesh(graph_obj.name + " Surface", points, segments,
-                                                            attributes))
-        step(0.7, "surface modifier")
+        surface_mesh = created.add(mesh.new_edge_mesh(graph_obj.name + " Surface", points, segments, attributes))
         surface_obj = created.add(bpy.data.objects.new(graph_obj.name + " Surface", surface_mesh))
         surface_obj[SURFACE_KEY] = 1
         surface_obj.parent = graph_obj
-        add_surface_modifier(surface_obj, created)
         # The graph object is for editing and analysis; the surface is what renders.
         graph_obj.hide_render = True
-    if with_frames:
-        add_frames_modifier(graph_obj, created)
+    return graph_obj, surface_obj
 
-    step(0.9, "linking")
+
+def link(context, graph_obj, surface_obj, graph, target=None):
+    """Link the objects of new_objects to the active collection, set the scene's
+    georeference for ``graph`` (``target``, a georef.Target, for the first graph), and make
+    the graph object the one selected and active."""
+    scene = context.scene
     collection = context.collection or scene.collection
     collection.objects.link(graph_obj)
     if surface_obj is not None:
@@ -308,5 +280,3 @@ def _build(context, graph, classes, widths, name, source, options, with_surface,
         obj.select_set(False)
     graph_obj.select_set(True)
     context.view_layer.objects.active = graph_obj
-    step(1.0, "done")
-    return graph_obj, surface_obj

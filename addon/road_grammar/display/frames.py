@@ -165,3 +165,13 @@ def add_modifier(obj, group, mat):
         if socket.name == "Material":
             modifier[socket.identifier] = mat
     return modifier
+
+
+def add_to(graph_obj, created):
+    """The Rule Frames modifier on ``graph_obj`` (once), with the shared node group and
+    material (a data.roads.Created remembers them when they are new); the graph object then
+    renders."""
+    if find_modifier(graph_obj) is not None:
+        return
+    add_modifier(graph_obj, created.shared(node_group), created.shared(material))
+    graph_obj.hide_render = False

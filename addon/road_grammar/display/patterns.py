@@ -26,9 +26,13 @@ import bmesh
 import bpy
 import numpy as np
 
+from ..core.analysis import StaleAnalysis
 from ..core.names import PATTERNS_KEY, SURFACE_EDGE
-from ..core.palette import SLOT_COLORS, SLOT_NAMES, slot_color_linear
+from ..core.palette import MATCH_SLOT, SLOT_COLORS, SLOT_NAMES, slot_color_linear
 from ..core.polylines import segment_polylines
+from ..core.topology import EdgeLookup
+from ..core.updates import suspended_updates
+from ..data import analysis
 from ..data import mesh as mesh_data
 from ..data import roads
 from .nodes import find_socket, input_sockets, new_node, new_socket
@@ -80,6 +84,59 @@ def write(obj, slots, vertex_mask, topology):
                 mesh.polygons.foreach_set("select", _face_mask(mesh, vertex_mask))
         mesh.update()
     ensure_object(obj, polylines, (topology.vertex_count, len(edges)))
+
+
+# --- the stored analysis shown (data.analysis) -----------------------------------------------
+
+def show_isogroup(obj, index, select=True, only_non_overlapping=False):
+    """Colour the occurrences of stored isogroup ``index`` (its overview colour, or the
+    match colour when it has none) and select their vertices. Returns (occurrences shown,
+    vertices selected)."""
+    topology = analysis.check_current(obj)
+    result = obj.road_analysis
+    if not 0 <= index < len(result.isogroups):
+        raise StaleAnalysis("{} has no isogroup {}".format(obj.name, index + 1))
+    occurrences, non_overlapping, pattern_edges = analysis.isogroup_arrays(obj, index)
+    if only_non_overlapping:
+        occurrences = occurrences[non_overlapping]
+    slot = result.isogroups[index].color_slot or MATCH_SLOT
+    lookup = EdgeLookup(topology.edges, topology.vertex_count)
+    slots = np.zeros(len(topology.edges), dtype=np.int32)
+    slots[lookup.occurrence_edges(occurrences, pattern_edges).ravel()] = slot
+    vertex_mask = None
+    if select:
+        vertex_mask = np.zeros(topology.vertex_count, dtype=bool)
+        vertex_mask[occurrences.ravel()] = True
+    write(obj, slots, vertex_mask, topology)
+    return len(occurrences), 0 if vertex_mask is None else int(vertex_mask.sum())
+
+
+def show_overview(obj, count=None):
+    """Colour the graph by isogroup (paper Fig. 13): the non-overlapping occurrences of each
+    of the first ``count`` coloured isogroups in its own colour, the best ones first (an
+    occurrence is coloured only where no better isogroup was). Returns the number of
+    occurrences coloured."""
+    topology = analysis.check_current(obj)
+    result = obj.road_analysis
+    lookup = EdgeLookup(topology.edges, topology.vertex_count)
+    slots = np.zeros(len(topology.edges), dtype=np.int32)
+    shown = 0
+    for index, item in enumerate(result.isogroups):
+        if item.color_slot <= 0 or (count is not None and item.color_slot > count):
+            continue
+        occurrences, non_overlapping, pattern_edges = analysis.isogroup_arrays(obj, index)
+        if len(pattern_edges) == 0 or len(non_overlapping) == 0:
+            continue
+        edge_ids = lookup.occurrence_edges(occurrences[non_overlapping], pattern_edges)
+        # Non-overlapping occurrences share no vertex, hence no edge: testing them all at
+        # once against the colours so far is exact.
+        free = (slots[edge_ids] == 0).all(axis=1)
+        slots[edge_ids[free].ravel()] = item.color_slot
+        shown += int(free.sum())
+    write(obj, slots, None, topology)
+    with suspended_updates():
+        result.active_index = -1
+    return shown
 
 
 def surface_polylines(graph_obj, positions, edges):

@@ -68,10 +68,38 @@ OUTLINE_COLOR = (1.0, 1.0, 1.0)
 
 _cache = {"key": None, "streets": None, "views": {}}
 
+# Road graph object name -> why the level of its learned grammar could not be shown (for the
+# panel: an update cannot report).
+display_problems = {}
+
 
 def forget_cache():
     _cache["key"], _cache["streets"] = None, None
     _cache["views"].clear()
+
+
+def forget():
+    """Drop what is kept in memory: the problems for the panel and the levels computed (the
+    add-on is being disabled)."""
+    display_problems.clear()
+    forget_cache()
+
+
+def show_learned(obj):
+    """Show the level and chosen rule of ``obj``'s learning (``object.road_learning``, see
+    data.learning) in its rules object. Returns the LevelView shown; raises DisplayError (or
+    native.NativeModuleError) after remembering the problem for the panel."""
+    result = obj.road_learning
+    try:
+        if result.text is None:
+            raise DisplayError("{} has no learned grammar: run Learn first".format(obj.name))
+        view = level_view(result.text, result.level)
+        show(obj, view, result.highlighted_symbol())
+    except (DisplayError, native.NativeModuleError) as ex:
+        display_problems[obj.name] = str(ex)
+        raise
+    display_problems.pop(obj.name, None)
+    return view
 
 
 def level_view(text, level):

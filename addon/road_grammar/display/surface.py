@@ -150,3 +150,9 @@ def add_modifier(obj, group, mat):
         if socket.name == "Material":
             modifier[socket.identifier] = mat
     return modifier
+
+
+def add_to(surface_obj, created):
+    """The surface modifier on ``surface_obj``, with the shared node group and material (a
+    data.roads.Created remembers them when they are new)."""
+    add_modifier(surface_obj, created.shared(node_group), created.shared(material))

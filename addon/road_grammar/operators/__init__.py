@@ -2,7 +2,7 @@
 importing roads, the grammar (load, save, axiom, place, grow), growing into a region,
 stitching two cities, the 3-D city, the analyzer, replacement, learning and comparing two
 road graphs. ``common`` holds what they share and ``jobs`` the modal running of long native
-calls.
+calls and of Blender's render job.
 
 Each module lists its operator classes in ``classes``."""
 

@@ -200,7 +200,7 @@ class ROADS_OT_analyze(ModalJobOperator, Operator):
         # The isogroups themselves (with their transforms), for Replace; from the vertices
         # that were analysed.
         analysis.remember(obj, self._topology, groups[:kept])
-        shown = analysis.show_overview(obj, self.overview_count)
+        shown = patterns.show_overview(obj, self.overview_count)
         self.report({'INFO'}, self._summary(obj, result, groups, kept, shown, job.seconds))
         if stored.stopped_by_budget:
             self.report({'WARNING'}, "The analysis of {} stopped early: the next order would hold too many "
@@ -265,7 +265,7 @@ class ROADS_OT_select_isogroup(Operator):
         if index is None:
             return {'CANCELLED'}
         try:
-            shown, selected = analysis.show_isogroup(obj, index, select=True,
+            shown, selected = patterns.show_isogroup(obj, index, select=True,
                                                      only_non_overlapping=self.only_non_overlapping)
         except (StaleAnalysis, KeyError) as ex:
             self.report({'ERROR'}, str(ex))
@@ -294,7 +294,7 @@ class ROADS_OT_show_patterns(Operator):
         if obj is None:
             return {'CANCELLED'}
         try:
-            shown = analysis.show_overview(obj, self.count)
+            shown = patterns.show_overview(obj, self.count)
         except (StaleAnalysis, KeyError) as ex:
             self.report({'ERROR'}, str(ex))
             return {'CANCELLED'}

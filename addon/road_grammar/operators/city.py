@@ -6,8 +6,10 @@ Build City runs as a job (operators.jobs.ModalJobOperator): the graph is read on
 thread, its ground plan (ggg.city_layout and the building heights, core.city.Plan) is made
 in a worker thread, modal from the UI (progress in the status bar, Esc cancels), waited for
 from scripts; the meshes are made on the main thread when it has finished, so a cancelled
-or failed run leaves the scene as it was. Rendering from the UI is Blender's own render job
-(its window shows the progress, Esc stops it); the fly-through is quick and runs at once.
+or failed run leaves the scene as it was. Render City from the UI is Blender's own render job,
+watched to its end (operators.jobs.ModalRenderOperator: the frames written in the status bar
+and the panel, Esc cancels, the report says what was written); from scripts it renders at
+once. The fly-through is quick and runs at once.
 """
 
 import os
@@ -29,7 +31,7 @@ from ..data import mesh as mesh_data
 from ..display import city
 from ..properties.city import (ENGINE_ITEMS, fly_properties, seed_property, sidewalk_property, sun_azimuth_property,
                                sun_elevation_property)
-from .jobs import ModalJobOperator
+from .jobs import ModalJobOperator, ModalRenderOperator
 from .region import changed_since, read_columns
 
 FLY_PART = "flythrough"
@@ -282,8 +284,8 @@ def _keyframe(camera, matrix, locations, targets, first_frame):
     camera.rotation_euler = keys[0, 3:]
 
 
-class ROADS_OT_render_city(Operator):
-    """Render the scene's camera: a still (city.png) or the animation as an MP4 (flythrough.mp4)"""
+class ROADS_OT_render_city(ModalRenderOperator, Operator):
+    """Render the scene's camera: a still (city.png) or the animation as an MP4 (flythrough.mp4); Esc cancels"""
 
     bl_idname = "roads.render_city"
     bl_label = "Render City"
@@ -333,18 +335,6 @@ class ROADS_OT_render_city(Operator):
         if not os.path.isfile(path):
             return _report_error(self, "Rendering wrote no file {}".format(path))
         self.report({'INFO'}, "Rendered {}".format(path))
-        return {'FINISHED'}
-
-    def invoke(self, context, event):
-        # In the interface the render runs as a job with its window; the file appears when done.
-        path = self._prepare(context)
-        if path is None:
-            return {'CANCELLED'}
-        if self.animation:
-            bpy.ops.render.render('INVOKE_DEFAULT', animation=True)
-        else:
-            bpy.ops.render.render('INVOKE_DEFAULT', write_still=True)
-        self.report({'INFO'}, "Rendering to {}".format(path))
         return {'FINISHED'}
 
 

@@ -17,6 +17,7 @@ from ..core.grammar import rule_of
 from ..core.names import SOURCE_KEY
 from ..core.text import plural
 from ..data import graph_edit, roads, texts
+from ..display import frames, road_objects
 from ..properties import grammar
 from .common import class_widths, grammar_or_report, input_file_or_report
 
@@ -122,7 +123,7 @@ class ROADS_OT_add_axiom(Operator):
         except ggg.Error as ex:
             self.report({'ERROR'}, str(ex))
             return {'CANCELLED'}
-        graph_obj, _surface = roads.build(
+        graph_obj, _surface = road_objects.build(
             context, axiom, list(ggg.highway_classes()), widths, parsed.name, text.name, None,
             target=target, with_frames=True, properties={"grammar": parsed.name})
         if target.warning:
@@ -201,7 +202,7 @@ class ROADS_OT_place_rule(Operator):
             except ggg.Error as ex:
                 self.report({'ERROR'}, str(ex))
                 return {'CANCELLED'}
-            graph_obj, _surface = roads.build(
+            graph_obj, _surface = road_objects.build(
                 context, empty, list(ggg.highway_classes()), [], parsed.name, text.name, None,
                 target=target, with_frames=True, properties={"grammar": parsed.name})
             warning = target.warning
@@ -222,8 +223,7 @@ class ROADS_OT_place_rule(Operator):
                                                 (scale * math.cos(angle), scale * math.sin(angle)))
             # Which grammar the nonterminal comes from (Stitch Cities grows it with that one).
             graph_edit.note_grammar(graph_obj, vertex, text.name)
-            created = roads.Created()
-            roads.add_frames_modifier(graph_obj, created)
+            frames.add_to(graph_obj, roads.Created())
             if graph_obj.get("grammar") is None:
                 graph_obj["grammar"] = parsed.name
         for obj in context.view_layer.objects:
@@ -304,7 +304,7 @@ class ROADS_OT_grow(Operator):
                 progress.step(0.0, "updating the mesh")
                 replacement = graph_edit.Replacement(graph_obj, old, result, report,
                                                      class_widths(context, ggg, result))
-                replacement.apply(context)
+                road_objects.rewrite(replacement)
                 progress.step(1.0, "done")
 
         if graph_obj.get("grammar") not in (None, parsed.name):

@@ -9,6 +9,7 @@ from ..core import georef, native
 from ..core.names import object_name
 from ..data import roads
 from ..data import preferences
+from ..display import road_objects
 from .common import input_file_or_report
 
 HIGHWAY_ITEMS = (
@@ -119,7 +120,7 @@ class ROADS_OT_import_osm(Operator, ImportHelper):
                 "keep_shape_nodes": self.keep_shape_nodes,
                 "consolidate_m": self.consolidate_m,
             }
-            graph_obj, _surface_obj = roads.build(
+            graph_obj, _surface_obj = road_objects.build(
                 context, graph, classes, widths, object_name(path), path, options,
                 with_surface=self.build_surface, progress=progress, target=target,
             )

@@ -1,5 +1,6 @@
-"""The modal operator that runs a long native call (Analyze, Learn, Grow into Region, Stitch
-Cities, Build City) from the UI, in a worker thread (core.jobs.NativeJob).
+"""The modal operators that run a long job from the UI: a native call (Analyze, Learn, Grow
+into Region, Stitch Cities, Build City) in a worker thread (core.jobs.NativeJob), and Blender's
+own render job (Render City).
 
 The native functions release the GIL; the thread touches no Blender data: its progress
 callback (``NativeJob.__call__``) only records the fraction and message and returns False
@@ -8,10 +9,20 @@ the status bar; Esc or a right click cancels; the viewport can still be navigate
 scripts and in background mode it waits for the thread, with the window manager's
 progress. Nothing in the scene changes before the call has finished (``_finish``, then the
 operator's ``_keep``), so a failed or cancelled run leaves it as it was.
+
+A render from the UI is Blender's render job (``ModalRenderOperator``): it renders in a thread
+of its own, shows its progress in the status bar and stops on Esc. The operator hands the
+render handlers to a core.jobs.RenderProgress, follows it with a timer (frames written, in
+the status bar and the panel; Esc to cancel) and reports what was written, or that the
+render was cancelled, once the job has ended; from scripts and in background mode it renders
+at once (``execute``).
 """
+
+import os
 
 import bpy
 
+from ..core.jobs import RenderProgress
 from ..core.jobs import stop_all as stop_jobs
 from ..data import analysis, roads
 
@@ -217,8 +228,160 @@ class ModalJobOperator:
         return None
 
 
+# Blender's render handlers that a RenderProgress takes: handler list -> its method.
+RENDER_HANDLERS = (("render_write", "on_write"), ("render_complete", "on_complete"), ("render_cancel", "on_cancel"))
+
+# Renders started from the UI and not yet ended: scene name -> RenderProgress (for the panel,
+# and so that one scene is not rendered twice at once).
+renders = {}
+
+
+def _handlers_of(progress):
+    return [(getattr(bpy.app.handlers, name), getattr(progress, method)) for name, method in RENDER_HANDLERS]
+
+
+def watch_render(key, progress):
+    """Hand Blender's render handlers to ``progress`` (a RenderProgress) and keep it in
+    ``renders`` under ``key``."""
+    unwatch_render(key)
+    for handlers, method in _handlers_of(progress):
+        handlers.append(method)
+    renders[key] = progress
+
+
+def unwatch_render(key):
+    """Take the handlers of the render kept under ``key`` out of Blender's lists again (a
+    file loaded meanwhile may have cleared them); its RenderProgress, else None."""
+    progress = renders.pop(key, None)
+    if progress is not None:
+        for handlers, method in _handlers_of(progress):
+            while method in handlers:
+                handlers.remove(method)
+    return progress
+
+
+class ModalRenderOperator:
+    """Rendering the scene with Blender's render job (a mixin before bpy.types.Operator).
+
+    The operator provides ``animation`` (a property: the frame range, else a still),
+    ``_prepare(context)`` (set the scene up; the path of the file to write, or None after an
+    ERROR report) and ``execute`` (the render from scripts and in background mode: it
+    waits). From the UI, ``invoke`` starts Blender's render job and returns RUNNING_MODAL;
+    ``modal`` follows it until it has ended and reports "Rendered <path>" ({'FINISHED'}),
+    that the render was cancelled (a WARNING) or why no file was written (an ERROR; both
+    {'CANCELLED'})."""
+
+    _running = renders
+    _doing = "Rendering"
+
+    # Set up by invoke; an operator instance watches one render.
+    _key = ""
+    _timer = None
+    _progress_shown = False
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is None or context.scene.name not in cls._running
+
+    def _prepare(self, context):
+        raise NotImplementedError
+
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        if bpy.app.is_job_running('RENDER'):
+            self.report({'ERROR'}, "Blender is rendering already: wait until it has finished, or press Esc")
+            return {'CANCELLED'}
+        path = self._prepare(context)
+        if path is None:
+            return {'CANCELLED'}
+        scene = context.scene
+        frames = len(range(scene.frame_start, scene.frame_end + 1, scene.frame_step)) if self.animation else 1
+        self._key = scene.name
+        watch_render(self._key, RenderProgress(path, frames))
+        try:
+            if self.animation:
+                started = bpy.ops.render.render('INVOKE_DEFAULT', animation=True)
+            else:
+                started = bpy.ops.render.render('INVOKE_DEFAULT', write_still=True)
+        except RuntimeError as ex:  # Blender refused, with an error report
+            unwatch_render(self._key)
+            self.report({'ERROR'}, "Cannot render {}: {}".format(path, ex))
+            return {'CANCELLED'}
+        if 'RUNNING_MODAL' not in started:
+            unwatch_render(self._key)
+            self.report({'ERROR'}, "Blender did not start rendering {}".format(path))
+            return {'CANCELLED'}
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.2, window=context.window)
+        wm.modal_handler_add(self)
+        wm.progress_begin(0.0, 1.0)
+        self._progress_shown = True
+        self._show_status(context)
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        progress = self._running.get(self._key)
+        try:
+            if progress is None:  # the add-on is being disabled (stop_all)
+                self._cleanup(context)
+                return {'CANCELLED'}
+            if event.type == 'TIMER':
+                # Ours or another one's (an event does not say which): look, and pass it on.
+                if not bpy.app.is_job_running('RENDER'):
+                    return self._end(context)
+                self._show_status(context)
+            elif event.type == 'ESC' and event.value == 'PRESS':
+                # Blender stops its render job on Esc; until it has, the status says so.
+                progress.cancel()
+                self._show_status(context)
+        except Exception as ex:  # never leave handlers or a status text behind
+            self._cleanup(context)
+            self.report({'ERROR'}, "Rendering failed: {}: {}".format(type(ex).__name__, ex))
+            return {'CANCELLED'}
+        # Everything goes on to Blender (its render job takes Esc too): the UI stays usable.
+        return {'PASS_THROUGH'}
+
+    def cancel(self, context):
+        # Blender ends the operator (a file is loaded, Blender quits; it stops its render job).
+        self._cleanup(context)
+
+    def _show_status(self, context):
+        progress = self._running.get(self._key)
+        if progress is None:
+            return
+        context.window_manager.progress_update(progress.fraction)
+        text = "{} {}: {} ({:.0f}%) \u2014 Esc to cancel".format(self._doing, progress.name, progress.message,
+                                                                100.0 * progress.fraction)
+        if progress.cancelled:
+            text = "Cancelling the render of {}\u2026".format(progress.name)
+        _status_text(context, text)
+
+    def _cleanup(self, context):
+        unwatch_render(self._key)
+        wm = context.window_manager
+        if self._timer is not None:
+            wm.event_timer_remove(self._timer)
+            self._timer = None
+        if self._progress_shown:
+            wm.progress_end()
+            self._progress_shown = False
+        _status_text(context, None)
+
+    def _end(self, context):
+        """The render job has ended: report what it wrote (main thread)."""
+        progress = self._running.get(self._key)
+        self._cleanup(context)
+        kind, message = progress.outcome(os.path.isfile(progress.path))
+        self.report({kind}, message)
+        return {'FINISHED'} if kind == 'INFO' else {'CANCELLED'}
+
+
 def stop_all():
-    """Cancel the jobs running in the UI, of every kind, and wait for their threads (the
-    add-on is being disabled)."""
+    """Cancel the jobs running in the UI, of every kind, and wait for their threads; stop
+    watching the renders (Blender's render job goes on by itself) (the add-on is being
+    disabled)."""
     for operator in ModalJobOperator.__subclasses__():
         stop_jobs(operator._running)
+    for key in list(renders):
+        unwatch_render(key)

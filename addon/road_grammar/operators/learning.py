@@ -20,6 +20,7 @@ from ..core.text import learned_summary, plural
 from ..core.topology import seed_problem
 from ..core.updates import suspended_updates
 from ..data import analysis, learning
+from ..display import rules
 from ..properties.learning import settings_properties
 from .common import constraint_parameters, draw_settings, graph_or_report
 from .jobs import ModalJobOperator
@@ -136,7 +137,7 @@ class ROADS_OT_learn(ModalJobOperator, Operator):
             self.report({'WARNING'}, "No pattern of {} repeats under these settings: the grammar is the graph itself "
                         "(its axiom)".format(name))
         try:
-            learning.show(obj)
+            rules.show_learned(obj)
         except (DisplayError, native.NativeModuleError) as ex:
             self.report({'WARNING'}, "The grammar is kept, but its levels cannot be shown: {}".format(ex))
         return {'FINISHED'}
@@ -191,7 +192,7 @@ class ROADS_OT_show_level(Operator):
                 result.level = self.level
             result.active_rule = self.rule
         try:
-            view = learning.show(obj)
+            view = rules.show_learned(obj)
         except (DisplayError, native.NativeModuleError) as ex:
             with suspended_updates():
                 result.level, result.active_rule = before

@@ -21,6 +21,7 @@ from ..core.text import plural, rejections, tries
 from ..core.topology import positions_digest, topology_checksum
 from ..data import graph_edit, region, roads
 from ..data import mesh as mesh_data
+from ..display import road_objects
 from ..properties import grammar
 from .common import class_widths, grammar_or_report
 from .jobs import ModalJobOperator
@@ -225,7 +226,7 @@ class ROADS_OT_grow_region(GrowSettings, ModalJobOperator, Operator):
         with graph_edit.object_mode(context, graph_obj):
             replacement = graph_edit.Replacement(graph_obj, old, grown.result, {"source_vertex": grown.source},
                                                  class_widths(context, self._ggg, grown.result))
-            replacement.apply(context)
+            road_objects.rewrite(replacement)
 
         if graph_obj.get("grammar") not in (None, self._parsed_name):
             self.report({'WARNING'}, "{} was made with the grammar '{}', not '{}'".format(

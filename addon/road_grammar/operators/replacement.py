@@ -22,7 +22,7 @@ from ..core.analysis import StaleAnalysis
 from ..core.piece import PieceError
 from ..core.text import plural
 from ..data import analysis, graph_edit, replacement, roads
-from ..display import patterns
+from ..display import patterns, road_objects
 from .common import analyzer_or_report, class_widths, graph_or_report, isogroup_index_or_report
 
 
@@ -147,7 +147,7 @@ class ROADS_OT_replace_isogroup(Operator):
                 progress.step(0.0, "updating the mesh")
                 written = graph_edit.Replacement(obj, old, out, {"source_vertex": source},
                                                  class_widths(context, ggg, out))
-                written.apply(context)
+                road_objects.rewrite(written)
                 # The ids of the analysis no longer mean the same vertices: forget it (and its
                 # colours), so that the list cannot highlight other vertices. The isogroups in
                 # memory stay: an undo brings back the analysis they belong to.

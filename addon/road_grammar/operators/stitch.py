@@ -26,6 +26,7 @@ from ..core.names import RULE_GRAMMARS_KEY
 from ..core.stitching import City, stitch
 from ..core.text import plural, rejections, tries
 from ..data import graph_edit, roads, texts
+from ..display import road_objects
 from ..properties import grammar
 from .common import class_widths
 from .jobs import ModalJobOperator
@@ -207,7 +208,7 @@ class ROADS_OT_stitch_cities(GrowSettings, ModalJobOperator, Operator):
         with graph_edit.object_mode(context, active):
             replacement = graph_edit.Replacement(active, done.old, done.result, {"source_vertex": done.source},
                                                  class_widths(context, self._ggg, done.result))
-            replacement.apply(context)
+            road_objects.rewrite(replacement)
             if done.names:
                 active[RULE_GRAMMARS_KEY] = done.names
             elif RULE_GRAMMARS_KEY in active:

@@ -14,7 +14,7 @@ from bpy.types import PropertyGroup
 from ..core.analysis import DEFAULT_MAX_STORED, SCALE_ITEMS, StaleAnalysis
 from ..core.palette import PALETTE_SIZE, slot_color_srgb
 from ..core.updates import updates_suspended
-from ..data import analysis
+from ..display import patterns
 
 
 def _item_color(item):
@@ -58,7 +58,7 @@ def _active_index_changed(self, context):
         return
     obj = self.id_data
     try:
-        analysis.show_isogroup(obj, self.active_index, select=True)
+        patterns.show_isogroup(obj, self.active_index, select=True)
     except (StaleAnalysis, KeyError, ValueError):
         pass  # the panel says why (out of date); an update cannot report
 

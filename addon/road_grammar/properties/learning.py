@@ -12,7 +12,7 @@ stored result and the level shown.
 
 The level (0 = the decoded streets ... ``levels`` = the axiom) and the chosen rule are
 shown by display.rules: setting either (the panel's slider, the list) rebuilds the rules
-object of the graph from the grammar text (data.learning.show).
+object of the graph from the grammar text (display.rules.show_learned).
 """
 
 import json
@@ -24,7 +24,7 @@ from bpy.types import PropertyGroup
 
 from ..core.palette import rule_color_srgb
 from ..core.updates import updates_suspended
-from ..data import learning
+from ..display import rules
 # ID property of ROADS_PG_learning that holds the level (the property has a getter and a
 # setter, which keep it within 0 .. levels).
 _LEVEL_KEY = "level_shown"
@@ -123,7 +123,7 @@ def _show_changed(self, _context):
     # The slider and the list show what they say; skipped while the add-on sets them.
     if updates_suspended():
         return
-    learning.show(self.id_data)
+    rules.show_learned(self.id_data)
 
 
 def _get_level(self):

@@ -1,11 +1,12 @@
 """The City panel of the sidebar's "Roads" tab: Build City, the fly-through and rendering,
-with their settings (scene.road_city)."""
+with their settings (scene.road_city); a running job (the city's plan, a render) shows its
+progress instead of its buttons."""
 
 from bpy.types import Panel
 
 from ..display import city
 from ..operators.city import ROADS_OT_build_city, ROADS_OT_flythrough, ROADS_OT_render_city
-from .common import RoadsTab, run_button
+from .common import RoadsTab, job_progress, run_button
 
 
 class VIEW3D_PT_roads_city(RoadsTab, Panel):
@@ -54,6 +55,8 @@ class VIEW3D_PT_roads_city(RoadsTab, Panel):
         row.prop(settings, "resolution_y")
         col.prop(settings, "samples")
         box.prop(settings, "directory")
+        if job_progress(box, ROADS_OT_render_city, context.scene):
+            return
         row = box.row(align=True)
         for animation, text, icon in ((False, "Still", 'RENDER_STILL'), (True, "Animation", 'RENDER_ANIMATION')):
             op = row.operator(ROADS_OT_render_city.bl_idname, text=text, icon=icon)

@@ -63,7 +63,8 @@ def constraints(col, settings):
 
 def job_progress(box, operator, graph):
     """The progress of the job of the modal ``operator`` (a jobs.ModalJobOperator) running on
-    ``graph``; False (nothing drawn) when none runs."""
+    ``graph`` (or of a jobs.ModalRenderOperator rendering the scene ``graph``); False (nothing
+    drawn) when none runs."""
     job = operator._running.get(graph.name) if graph is not None else None
     if job is None:
         return False

@@ -5,8 +5,9 @@ from the active road graph: its numbers, the level shown (a slider) and its rule
 from bpy.types import Panel, UIList
 
 from ..core.text import compact, plural
-from ..data import analysis, learning, texts
+from ..data import analysis, texts
 from ..data.roads import road_graph_object
+from ..display import rules
 from ..operators.grammar import ROADS_OT_place_rule, ROADS_OT_save_grammar
 from ..operators.learning import ROADS_OT_learn, ROADS_OT_show_level
 from .common import RoadsTab, constraints, header, run_button, swatch_cells, wrapped_labels
@@ -103,7 +104,7 @@ class VIEW3D_PT_roads_learned_rules(RoadsTab, Panel):
         row = layout.row(align=True)
         row.prop(result, "level", text="Level")
         row.label(text="of {}".format(result.levels))
-        problem = learning.display_problems.get(graph.name)
+        problem = rules.display_problems.get(graph.name)
         if problem is not None:
             box = layout.box()
             box.label(text="Cannot show the level", icon='ERROR')
