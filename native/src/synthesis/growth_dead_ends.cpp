@@ -1,0 +1,176 @@
+// The stage of growth after the rules: once the region is full, the grown dead ends are joined
+// to a vertex or a grown street ahead of them, and the short stubs that nothing was grown onto
+// are cut (growth_stages.hpp).
+#include "growth_stages.hpp"
+
+#include <algorithm>
+
+#include "street_cleanup.hpp"
+
+namespace ggg::growth_detail {
+
+using namespace spatial; // bg, bgi, Point, Box, point, RTree, VertexEntry, EdgeEntry
+
+bool Grower::closes_small_block(VertexId v, VertexId w) {
+    adjacency_[static_cast<std::size_t>(v)].push_back(w);
+    adjacency_[static_cast<std::size_t>(w)].push_back(v);
+    auto neighbours = [&](VertexId x) -> const std::vector<VertexId>& { return adjacency_[static_cast<std::size_t>(x)]; };
+    const double left = block_left_of(g_.positions, neighbours, v, w);
+    const double right = block_left_of(g_.positions, neighbours, w, v);
+    adjacency_[static_cast<std::size_t>(v)].pop_back();
+    adjacency_[static_cast<std::size_t>(w)].pop_back();
+    return (left > 0 && left < min_block_m2_) || (right > 0 && right < min_block_m2_);
+}
+
+void Grower::close_dead_ends() {
+    std::vector<double> lengths;
+    for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) lengths.push_back(g_.edge_length(static_cast<EdgeId>(e)));
+    if (lengths.empty() || o_.close_dead_ends <= 0) return;
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
+    const double reach = o_.close_dead_ends * lengths[lengths.size() / 2];
+    for (std::size_t v = base_vertices_; v < g_.vertex_count(); ++v) {
+        if (adjacency_[v].size() != 1) continue;
+        const Vec2 p = g_.positions[v];
+        const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
+        VertexId best = -1;
+        double best_d = reach;
+        const Box window = spatial::around(p, reach);
+        for (auto it = vertices_.qbegin(bgi::intersects(window)); it != vertices_.qend(); ++it) {
+            const VertexId w = it->second;
+            if (static_cast<std::size_t>(w) == v || adjacency_[static_cast<std::size_t>(w)].size() >= 4) continue;
+            const Vec2 d = g_.positions[static_cast<std::size_t>(w)] - p;
+            const double length = d.norm();
+            const auto& n = adjacency_[v];
+            if (length >= best_d || d.dot(ahead) < 0.7 * length || std::find(n.begin(), n.end(), w) != n.end()) continue;
+            if (!inside(region_, 0.5 * (p + g_.positions[static_cast<std::size_t>(w)]))) continue; // stays in the region
+            if (crosses(p, g_.positions[static_cast<std::size_t>(w)])) continue;
+            if (min_block_m2_ > 0 && closes_small_block(static_cast<VertexId>(v), w)) continue;
+            best = w;
+            best_d = length;
+        }
+        EdgeAttributes attributes;
+        attributes.highway = g_.edge_highway[g_.edge_count() - 1];
+        for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) {
+            if (g_.edges[e][0] == static_cast<VertexId>(v) || g_.edges[e][1] == static_cast<VertexId>(v)) attributes.highway = g_.edge_highway[e];
+        }
+        if (best < 0) {
+            // No vertex ahead: the grown street ahead, if there is one, gets a T-junction.
+            if (join_street_ahead(static_cast<VertexId>(v), ahead, reach, attributes)) ++report_->t_junctions;
+            continue;
+        }
+        const EdgeId e = g_.add_edge(static_cast<VertexId>(v), best, attributes);
+        adjacency_[v].push_back(best);
+        adjacency_[static_cast<std::size_t>(best)].push_back(static_cast<VertexId>(v));
+        index_edge(e);
+        ++report_->closing_edges;
+    }
+}
+
+void Grower::prune_stubs() {
+    if (o_.prune_stubs <= 0 || g_.edge_count() == base_edges_) return;
+    std::vector<double> lengths;
+    for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) lengths.push_back(g_.edge_length(static_cast<EdgeId>(e)));
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
+    const double shortest = o_.prune_stubs * lengths[lengths.size() / 2];
+    std::vector<char> drop_vertex(g_.vertex_count(), 0), drop_edge(g_.edge_count(), 0);
+    std::size_t dropped = 0;
+    for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) {
+        const auto [a, b] = g_.edges[e];
+        for (const VertexId end : {a, b}) {
+            const VertexId other = end == a ? b : a;
+            if (static_cast<std::size_t>(end) < base_vertices_ || adjacency_[static_cast<std::size_t>(end)].size() != 1) continue;
+            // Not a street of its own (both ends loose), and not the last street of a vertex.
+            if (adjacency_[static_cast<std::size_t>(other)].size() < 3) continue;
+            if (g_.edge_length(static_cast<EdgeId>(e)) >= shortest) continue;
+            drop_vertex[static_cast<std::size_t>(end)] = 1;
+            drop_edge[e] = 1;
+            ++dropped;
+            break;
+        }
+    }
+    if (dropped == 0) return;
+    std::vector<growth_detail::Street> streets;
+    for (std::size_t e = 0; e < g_.edge_count(); ++e) {
+        if (drop_edge[e]) continue;
+        const Vec2* p = g_.geometry_begin(static_cast<EdgeId>(e));
+        streets.push_back({g_.edges[e][0], g_.edges[e][1], g_.edge_attributes(static_cast<EdgeId>(e)),
+                           std::vector<Vec2>(p, p + g_.geometry_size(static_cast<EdgeId>(e)))});
+    }
+    GeometricGraph kept = growth_detail::rebuilt(g_, drop_vertex, streets);
+    g_ = std::move(kept);
+    report_->pruned_stubs = dropped;
+    // The indexes, for what comes after (the main roads).
+    std::vector<std::vector<VertexId>> around(g_.vertex_count());
+    for (const auto& [a, b] : g_.edges) {
+        around[static_cast<std::size_t>(a)].push_back(b);
+        around[static_cast<std::size_t>(b)].push_back(a);
+    }
+    adjacency_ = std::move(around);
+}
+
+bool Grower::join_street_ahead(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes) {
+    const Vec2 p = g_.positions[static_cast<std::size_t>(v)];
+    const Vec2 end = p + reach * ahead;
+    Box box(point(p), point(p));
+    bg::expand(box, point(end));
+    double first_t = 2.0;
+    EdgeId hit = -1;
+    double hit_u = 0.0;
+    for (auto it = segments_.qbegin(bgi::intersects(box)); it != segments_.qend(); ++it) {
+        const EdgeId e = it->second;
+        const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
+        if (a == v || b == v) continue;
+        const Vec2* q = g_.geometry_begin(e);
+        for (std::size_t i = 0; i + 1 < g_.geometry_size(e); ++i) {
+            const auto m = segment_meeting(p, end, q[i], q[i + 1]);
+            if (m && m->first > 1e-9 && m->first < first_t) {
+                first_t = m->first;
+                hit = g_.geometry_size(e) == 2 ? e : -1; // only a straight street is split
+                hit_u = m->second;
+            }
+        }
+    }
+    if (hit < 0 || static_cast<std::size_t>(hit) < base_edges_) return false;
+    const auto e = static_cast<std::size_t>(hit);
+    const auto [a, b] = g_.edges[e];
+    const double length = g_.edge_length(hit);
+    const double keep = o_.spacing * length;
+    if (hit_u * length < std::max(keep, 1e-6) || (1.0 - hit_u) * length < std::max(keep, 1e-6)) return false;
+    const Vec2 x = p + first_t * (end - p);
+    if (!inside(region_, 0.5 * (p + x))) return false;
+    // The blocks on either side of the new street, with the junction in place.
+    const auto x_id = static_cast<VertexId>(g_.vertex_count());
+    auto around = [&](VertexId w) -> std::vector<VertexId>& { return adjacency_[static_cast<std::size_t>(w)]; };
+    g_.positions.push_back(x);
+    adjacency_.push_back({a, b, v}); // (may move the lists: they are looked up afresh below)
+    std::replace(around(a).begin(), around(a).end(), b, x_id);
+    std::replace(around(b).begin(), around(b).end(), a, x_id);
+    around(v).push_back(x_id);
+    bool small = false;
+    if (split_block_m2_ > 0) {
+        auto neighbours = [&](VertexId w) -> const std::vector<VertexId>& { return around(w); };
+        const double left = block_left_of(g_.positions, neighbours, v, x_id);
+        const double right = block_left_of(g_.positions, neighbours, x_id, v);
+        small = (left > 0 && left < split_block_m2_) || (right > 0 && right < split_block_m2_);
+    }
+    // Undone, then (if it fits) made for good.
+    around(v).pop_back();
+    std::replace(around(a).begin(), around(a).end(), x_id, b);
+    std::replace(around(b).begin(), around(b).end(), x_id, a);
+    adjacency_.pop_back();
+    g_.positions.pop_back();
+    if (small) return false;
+
+    const VertexId junction = g_.split_edge(hit, x);
+    adjacency_.push_back({a, b, v});
+    vertices_.insert({point(x), junction});
+    std::replace(around(a).begin(), around(a).end(), b, junction);
+    std::replace(around(b).begin(), around(b).end(), a, junction);
+    around(v).push_back(junction);
+    index_edge(static_cast<EdgeId>(g_.edge_count() - 1)); // its second half (the first stays indexed by the whole street's box)
+    const EdgeId joining = g_.add_edge(v, junction, attributes);
+    index_edge(joining);
+    return true;
+}
+
+} // namespace ggg::growth_detail

@@ -1,0 +1,267 @@
+// The main stage of growth: rules placed one at a time on the streets of the frontier, by
+// forward derivation in a copy of the streets around, each kept only where it fits (inside
+// the region, crossing nothing, crowding nothing, closing no sliver); see growth_stages.hpp.
+#include "growth_stages.hpp"
+
+#include <algorithm>
+#include <string>
+#include <unordered_map>
+
+#include "ggg/error.hpp"
+#include "ggg/grammar/rewriting.hpp"
+
+namespace ggg::growth_detail {
+
+using namespace spatial; // bg, bgi, Point, Box, point, RTree, VertexEntry, EdgeEntry
+
+Vec2 Grower::principal_axis() const {
+    double sxx = 0, sxy = 0, syy = 0;
+    for (const Vec2& p : region_) {
+        const Vec2 d = p - centre_;
+        sxx += d.x() * d.x();
+        sxy += d.x() * d.y();
+        syy += d.y() * d.y();
+    }
+    const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+    return {std::cos(angle), std::sin(angle)};
+}
+
+bool Grower::glue(const FrontierEdge& at) {
+    ++report_->attempts;
+    std::discrete_distribution<std::size_t> rule(weights_.begin(), weights_.end());
+    const Prototype& p = prototypes_[rule(rng_)];
+    const Vec2 a = g_.positions[static_cast<std::size_t>(at.a)];
+    const Vec2 b = g_.positions[static_cast<std::size_t>(at.b)];
+    const double length = (b - a).norm();
+    if (length <= 0) return false;
+    // The rule's edges whose length, at about the rule's size, fits the street.
+    std::vector<std::size_t> fitting;
+    for (std::size_t e = 0; e < p.edges.size(); ++e) {
+        const double l = (p.positions[static_cast<std::size_t>(p.edges[e][1])] - p.positions[static_cast<std::size_t>(p.edges[e][0])]).norm();
+        const double size = length / l;
+        if (l > 0 && size >= p.size_m / (1.0 + 2.0 * o_.size_jitter) && size <= p.size_m * (1.0 + 2.0 * o_.size_jitter)) {
+            fitting.push_back(e);
+        }
+    }
+    if (fitting.empty()) return attach(p, at);
+    std::uniform_int_distribution<std::size_t> pick(0, fitting.size() - 1);
+    auto [u, v] = p.edges[fitting[pick(rng_)]];
+    if (std::bernoulli_distribution(0.5)(rng_)) std::swap(u, v); // the other side of the street
+    const Vec2 pu = p.positions[static_cast<std::size_t>(u)];
+    const Vec2 d = p.positions[static_cast<std::size_t>(v)] - pu;
+    const double size = length / d.norm();
+    const double angle = std::atan2((b - a).y(), (b - a).x()) - std::atan2(d.y(), d.x());
+    const Vec2 origin = a - Similarity2::from(size, angle, Vec2::Zero()).apply_linear(pu);
+    // A square rule stays on the grid of the streets around (or of the first square rule
+    // placed): its streets must run along the grid's.
+    const double tolerance = o_.grid_tolerance_deg * M_PI / 180.0;
+    if (grid_city_ && o_.grid_tolerance_deg > 0 && p.squareness >= 0.6 && grid_angle_) {
+        if (std::abs(wrap_quarter(p.square_angle + angle - *grid_angle_)) > tolerance) {
+            // The streets around looked like a grid, but none of the rules fits it: the
+            // first square rule that is placed sets the grid instead.
+            if (++report_->rejected_off_grid >= 20 && report_->placements == 0) grid_angle_.reset();
+            return false;
+        }
+    }
+    if (!place(p, Frame{size, angle * 180.0 / M_PI}, origin, at.a)) return false;
+    if (!grid_angle_ && p.squareness >= 0.6) grid_angle_ = wrap_quarter(p.square_angle + angle);
+    return true;
+}
+
+bool Grower::attach(const Prototype& p, const FrontierEdge& at) {
+    const bool first = std::bernoulli_distribution(0.5)(rng_);
+    const VertexId v = first ? at.a : at.b;
+    const Vec2 from_street = g_.positions[static_cast<std::size_t>(v)] - g_.positions[static_cast<std::size_t>(first ? at.b : at.a)];
+    std::uniform_int_distribution<std::size_t> vertex(0, p.attach.size() - 1);
+    const Vec2 pj = p.positions[static_cast<std::size_t>(p.attach[vertex(rng_)])];
+    const Vec2 body = p.centroid - pj;
+    double angle = std::atan2(from_street.y(), from_street.x()) - std::atan2(body.y(), body.x());
+    if (grid_city_ && grid_angle_ && p.squareness >= 0.6) angle += wrap_quarter(*grid_angle_ - (p.square_angle + angle));
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const double size = p.size_m * (1.0 + o_.size_jitter * unit(rng_));
+    const Vec2 origin = g_.positions[static_cast<std::size_t>(v)] - Similarity2::from(size, angle, Vec2::Zero()).apply_linear(pj);
+    if (!place(p, Frame{size, angle * 180.0 / M_PI}, origin, v)) return false;
+    if (!grid_angle_ && p.squareness >= 0.6) grid_angle_ = wrap_quarter(p.square_angle + angle);
+    return true;
+}
+
+void Grower::seed_at_centre() {
+    std::vector<std::size_t> order(prototypes_.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return prototypes_[x].weight > prototypes_[y].weight; });
+    const Vec2 axis = principal_axis();
+    const double angle = std::atan2(axis.y(), axis.x());
+    for (std::size_t i : order) {
+        const Prototype& p = prototypes_[i];
+        const Vec2 origin = centre_ - Similarity2::from(p.size_m, angle, Vec2::Zero()).apply_linear(p.centroid);
+        ++report_->attempts;
+        if (!place(p, Frame{p.size_m, angle * 180.0 / M_PI}, origin, -1)) continue;
+        if (p.squareness >= 0.6) grid_angle_ = wrap_quarter(p.square_angle + angle);
+        return;
+    }
+}
+
+void Grower::place_by_hand(const RulePlacement& placed) {
+    const auto it = std::find_if(prototypes_.begin(), prototypes_.end(), [&](const Prototype& p) { return p.symbol == placed.symbol; });
+    if (it == prototypes_.end()) {
+        throw UsageError("a placed rule has symbol " + std::to_string(placed.symbol) + ", which has no rule deriving to streets");
+    }
+    Frame frame = placed.frame;
+    if (!(frame.scale > 0)) frame.scale = it->size_m;
+    ++report_->attempts;
+    place(*it, frame, placed.position, -1, /*by_hand=*/true);
+    report_->hand_placements.push_back(last_outcome_);
+}
+
+bool Grower::reject(PlacementOutcome why) {
+    last_outcome_ = why;
+    switch (why) {
+    case PlacementOutcome::outside: ++report_->rejected_outside; break;
+    case PlacementOutcome::crossing: ++report_->rejected_crossing; break;
+    case PlacementOutcome::crowded: ++report_->rejected_crowded; break;
+    case PlacementOutcome::star: ++report_->rejected_star; break;
+    case PlacementOutcome::small_block: ++report_->rejected_small_block; break;
+    case PlacementOutcome::placed:
+    case PlacementOutcome::nothing_new: break;
+    }
+    return false;
+}
+
+bool Grower::place(const Prototype& p, const Frame& frame, const Vec2& origin, VertexId anchor, bool by_hand) {
+    const Similarity2 f = frame.at(origin);
+    const double reach = frame.scale * (p.radius + (p.centroid).norm()) + 2.0 * frame.scale * p.edge_length;
+    const Vec2 middle = f.apply(p.centroid);
+    // The streets around, as their own small graph.
+    GeometricGraph local;
+    local.origin = g_.origin;
+    std::vector<VertexId> global_of;
+    std::unordered_map<VertexId, VertexId> local_of;
+    const Box window = spatial::around(middle, reach);
+    for (auto it = vertices_.qbegin(bgi::intersects(window)); it != vertices_.qend(); ++it) {
+        local_of.emplace(it->second, static_cast<VertexId>(local.vertex_count()));
+        local.add_vertex(g_.positions[static_cast<std::size_t>(it->second)]);
+        global_of.push_back(it->second);
+    }
+    for (std::size_t l = 0; l < global_of.size(); ++l) {
+        for (VertexId w : adjacency_[static_cast<std::size_t>(global_of[l])]) {
+            const auto it = local_of.find(w);
+            if (it != local_of.end() && static_cast<std::size_t>(it->second) > l) {
+                local.add_edge(static_cast<VertexId>(l), it->second, EdgeAttributes{});
+            }
+        }
+    }
+    const std::size_t old_edges = local.edge_count();
+    place_nonterminal(local, p.symbol, origin, frame);
+    DeriveOptions d;
+    d.max_steps = depth_ + 1;
+    d.max_vertices = local.vertex_count() + 20'000;
+    d.tolerance = o_.snap; // relative to the rule's size: vertices this close become one
+    d.grammar_validated = true;
+    const DeriveReport derived = derive(local, grammar_, d);
+
+    // What the placement adds: new vertices, and edges that were not there.
+    const double typical = frame.scale * p.edge_length;
+    std::vector<VertexId> global(local.vertex_count(), -1);
+    std::vector<std::size_t> fresh;
+    for (std::size_t v = 0; v < local.vertex_count(); ++v) {
+        if (local.symbols[v] != 0) continue;
+        const VertexId s = derived.source_vertex[v];
+        if (s >= 0 && static_cast<std::size_t>(s) < global_of.size()) {
+            global[v] = global_of[static_cast<std::size_t>(s)];
+            continue;
+        }
+        const Vec2& q = local.positions[v];
+        if (!inside(region_, q)) {
+            return reject(PlacementOutcome::outside);
+        }
+        for (auto it = vertices_.qbegin(bgi::nearest(point(q), 1)); it != vertices_.qend(); ++it) {
+            if ((g_.positions[static_cast<std::size_t>(it->second)] - q).norm() < o_.spacing * typical) {
+                return reject(PlacementOutcome::crowded);
+            }
+        }
+        fresh.push_back(v);
+    }
+    if (fresh.empty()) return reject(PlacementOutcome::nothing_new);
+    std::vector<std::array<VertexId, 2>> added; // local ids
+    std::vector<HighwayClass> classes;
+    for (std::size_t e = 0; e < local.edge_count(); ++e) {
+        const auto [a, b] = local.edges[e];
+        if (local.symbols[static_cast<std::size_t>(a)] || local.symbols[static_cast<std::size_t>(b)]) continue;
+        const VertexId ga = global[static_cast<std::size_t>(a)], gb = global[static_cast<std::size_t>(b)];
+        if (ga >= 0 && gb >= 0) {
+            const auto& n = adjacency_[static_cast<std::size_t>(ga)];
+            if (e < old_edges || std::find(n.begin(), n.end(), gb) != n.end()) continue;
+        }
+        added.push_back({a, b});
+        classes.push_back(local.edge_highway[e]);
+    }
+    // No junction of more than four streets (a star), which snapping would otherwise pile
+    // up where several of the rule's vertices land on one street vertex.
+    if (!by_hand) {
+        std::unordered_map<VertexId, std::size_t> gained; // by global id, or -1 - local id when new
+        for (const auto& [a, b] : added) {
+            for (const VertexId x : {a, b}) {
+                const VertexId key = global[static_cast<std::size_t>(x)] >= 0 ? global[static_cast<std::size_t>(x)] : -1 - x;
+                const std::size_t before = key >= 0 ? adjacency_[static_cast<std::size_t>(key)].size() : 0;
+                if (before + ++gained[key] > 4) {
+                    return reject(PlacementOutcome::star);
+                }
+            }
+        }
+    }
+    // No new street may cross a street or another new one.
+    for (std::size_t i = 0; i < added.size(); ++i) {
+        const Vec2& a = local.positions[static_cast<std::size_t>(added[i][0])];
+        const Vec2& b = local.positions[static_cast<std::size_t>(added[i][1])];
+        if (crosses(a, b)) {
+            return reject(PlacementOutcome::crossing);
+        }
+        for (std::size_t k = 0; k < i; ++k) {
+            if (segments_meet(a, b, local.positions[static_cast<std::size_t>(added[k][0])], local.positions[static_cast<std::size_t>(added[k][1])])) {
+                return reject(PlacementOutcome::crossing);
+            }
+        }
+    }
+    // No new street may close a block smaller than the city's small ones (a rule placed
+    // by hand has the size its user gave it).
+    if (min_block_m2_ > 0 && !by_hand) {
+        std::vector<std::vector<VertexId>> around(local.vertex_count());
+        for (const auto& [a, b] : local.edges) {
+            if (local.symbols[static_cast<std::size_t>(a)] || local.symbols[static_cast<std::size_t>(b)]) continue;
+            around[static_cast<std::size_t>(a)].push_back(b);
+            around[static_cast<std::size_t>(b)].push_back(a);
+        }
+        auto neighbours = [&](VertexId w) -> const std::vector<VertexId>& { return around[static_cast<std::size_t>(w)]; };
+        for (const auto& [a, b] : added) {
+            const double left = block_left_of(local.positions, neighbours, a, b);
+            const double right = block_left_of(local.positions, neighbours, b, a);
+            if ((left > 0 && left < min_block_m2_) || (right > 0 && right < min_block_m2_)) {
+                return reject(PlacementOutcome::small_block);
+            }
+        }
+    }
+    // Kept: the new vertices and edges join the graph and the frontier.
+    for (std::size_t v : fresh) {
+        global[v] = g_.add_vertex(local.positions[v]);
+        adjacency_.emplace_back();
+        vertices_.insert({point(local.positions[v]), global[v]});
+    }
+    for (std::size_t i = 0; i < added.size(); ++i) {
+        const VertexId a = global[static_cast<std::size_t>(added[i][0])], b = global[static_cast<std::size_t>(added[i][1])];
+        EdgeAttributes attributes;
+        attributes.highway = classes[i];
+        const EdgeId e = g_.add_edge(a, b, attributes);
+        adjacency_[static_cast<std::size_t>(a)].push_back(b);
+        adjacency_[static_cast<std::size_t>(b)].push_back(a);
+        index_edge(e);
+    }
+    for (std::size_t i = 0; i < added.size(); ++i) {
+        frontier_.push_back({global[static_cast<std::size_t>(added[i][0])], global[static_cast<std::size_t>(added[i][1])], 0});
+    }
+    ++report_->placements;
+    last_outcome_ = PlacementOutcome::placed;
+    if (anchor >= 0 && static_cast<std::size_t>(anchor) < base_vertices_) ++report_->border_connections;
+    return true;
+}
+
+} // namespace ggg::growth_detail

@@ -1,0 +1,103 @@
+// The local constraints of tracing (Parish & Müller): a traced street is joined to what it
+// meets instead of being dropped. It stops at a street it crosses, ends at a junction near its
+// end or meets a street near it in a T-junction, squared as often as the city's junctions are
+// right angles; where none of that fits, it is dropped (tracing_stages.hpp).
+#include "tracing_stages.hpp"
+
+#include "ggg/graph/plane_geometry.hpp"
+
+namespace ggg::growth_detail::tracing {
+
+bool Tracer::fits_to_vertex(VertexId from, const std::vector<Vec2>& line, VertexId to) const {
+    if (to == from || degree(to) >= 4 || adjacent(from, to)) return false;
+    if (first_hit(line, from, to)) return false;
+    const Vec2 arrive = line[line.size() - 2] - line.back();
+    if (clearance(to, arrive) < min_angle_) return false;
+    for (std::size_t k = 1; k + 1 < line.size(); ++k) {
+        if (!inside(region_, line[k])) return false;
+    }
+    return !closes_small_block(from, to);
+}
+
+void Tracer::squared(const Street& s, std::vector<Vec2>& line, EdgeId e, std::size_t piece) {
+    const Vec2 from_point = line[line.size() - 2];
+    const Vec2* q = g_.geometry_begin(e);
+    const Vec2 d = q[piece + 1] - q[piece];
+    const double slant = std::abs(std::cos(angle_of(line.back() - from_point) - angle_of(d))); // 0: square
+    if (slant > std::sin(M_PI / 5) && !std::bernoulli_distribution(right_share_)(rng_)) return;
+    const double t = (from_point - q[piece]).dot(d) / std::max(d.squaredNorm(), 1e-300);
+    if (t < 0.05 || t > 0.95) return;
+    const Vec2 foot = q[piece] + t * d;
+    if ((foot - line.back()).norm() > 0.5 * typical_ || (foot - from_point).norm() < 0.2 * typical_) return;
+    std::vector<Vec2> moved = line;
+    moved.back() = foot;
+    if (first_hit(moved, s.from, -1, e)) return;
+    line = std::move(moved);
+}
+
+bool Tracer::end_at(const Street& s, const std::vector<Vec2>& line, VertexId w) {
+    const std::vector<Vec2> to_w = warped(line, g_.positions[static_cast<std::size_t>(w)]);
+    if (!fits_to_vertex(s.from, to_w, w)) return false;
+    add_street(s.from, w, to_w, s.highway);
+    ++report_.joined;
+    return true;
+}
+
+Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
+    const double snap = 0.3 * typical_;
+
+    // A street it crosses: it stops there, at the junction near by or a new one.
+    if (const auto hit = first_hit(line, s.from)) {
+        std::vector<Vec2> cut(line.begin(), line.begin() + static_cast<long>(hit->piece) + 1);
+        cut.push_back(hit->where);
+        double travelled = 0.0;
+        for (std::size_t k = 1; k < cut.size(); ++k) travelled += (cut[k] - cut[k - 1]).norm();
+        if (travelled < 0.25 * typical_ || leaves_region_inside_line(cut)) return Settled::dropped;
+        const auto [a, b] = g_.edges[static_cast<std::size_t>(hit->edge)];
+        for (const VertexId end : {a, b}) {
+            if ((g_.positions[static_cast<std::size_t>(end)] - hit->where).norm() < snap) {
+                return end_at(s, cut, end) ? Settled::joined : Settled::dropped;
+            }
+        }
+        if (a == s.from || b == s.from) return Settled::dropped; // it would come back to where it started
+        squared(s, cut, hit->edge, hit->edge_piece);
+        const Vec2* q = g_.geometry_begin(hit->edge);
+        const Vec2 along = q[hit->edge_piece + 1] - q[hit->edge_piece];
+        const Vec2 arrive = cut[cut.size() - 2] - cut.back();
+        const double crossing_angle = std::abs(std::sin(angle_of(arrive) - angle_of(along)));
+        if (crossing_angle < std::sin(min_angle_)) return Settled::dropped;
+        if (!inside(region_, cut.back()) || static_cast<std::size_t>(hit->edge) < fixed_edges_) return Settled::dropped;
+        if (s_.min_block_m2 > 0 && splits_small_block(s.from, hit->edge, cut.back())) return Settled::dropped;
+        const VertexId x = split(hit->edge, cut.back());
+        add_street(s.from, x, cut, s.highway);
+        ++report_.t_junctions;
+        return Settled::joined;
+    }
+    // Out of the region: only to join a street there.
+    const Vec2 end = line.back();
+    if (leaves_region_inside_line(line) || !inside(region_, end)) {
+        const auto w = nearest_vertex(end, snap, s.from);
+        return w && end_at(s, line, *w) ? Settled::joined : Settled::dropped;
+    }
+    // A junction near its end: it ends there.
+    if (const auto w = nearest_vertex(end, snap, s.from)) return end_at(s, line, *w) ? Settled::joined : Settled::dropped;
+    // A street near its end: it meets it.
+    if (const auto near = nearest_street(end, snap, s.from)) {
+        const EdgeId e = near->edge;
+        std::vector<Vec2> to_x = warped(line, near->where);
+        squared(s, to_x, e, near->piece);
+        const Vec2 x = to_x.back();
+        const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
+        const bool room = (g_.positions[static_cast<std::size_t>(a)] - x).norm() > snap && (g_.positions[static_cast<std::size_t>(b)] - x).norm() > snap;
+        if (room && inside(region_, x) && static_cast<std::size_t>(e) >= fixed_edges_ && !first_hit(to_x, s.from, -1, e) && !(s_.min_block_m2 > 0 && splits_small_block(s.from, e, x))) {
+            const VertexId junction = split(e, x);
+            add_street(s.from, junction, to_x, s.highway);
+            ++report_.t_junctions;
+            return Settled::joined;
+        }
+        return Settled::dropped;
+    }
+    return Settled::open;
+}
+
+} // namespace ggg::growth_detail::tracing

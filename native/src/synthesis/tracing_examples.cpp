@@ -1,0 +1,122 @@
+// The first stage of tracing: the city's junctions learned as examples, each seen from each of
+// its streets (what leaves it, at which turns, how long, how bent, of which class), and what
+// they say of the city: its typical street, its share of right angles, its common class
+// (tracing_stages.hpp).
+#include "tracing_stages.hpp"
+
+#include <algorithm>
+
+#include "ggg/graph/plane_geometry.hpp"
+
+namespace ggg::growth_detail::tracing {
+
+void Tracer::learn_examples(const GeometricGraph& city, double radius) {
+    const std::size_t n = city.vertex_count();
+    if (city.edge_count() == 0) return;
+    std::vector<std::vector<EdgeId>> at(n);
+    for (std::size_t e = 0; e < city.edge_count(); ++e) {
+        const auto [a, b] = city.edges[e];
+        if (a == b) continue;
+        at[static_cast<std::size_t>(a)].push_back(static_cast<EdgeId>(e));
+        at[static_cast<std::size_t>(b)].push_back(static_cast<EdgeId>(e));
+    }
+    std::vector<double> lengths;
+    for (std::size_t e = 0; e < city.edge_count(); ++e) {
+        const auto [a, b] = city.edges[e];
+        const Vec2 pa = city.positions[static_cast<std::size_t>(a)], pb = city.positions[static_cast<std::size_t>(b)];
+        if (std::isfinite(radius) && distance_to_ring(region_, pa) > radius) continue;
+        lengths.push_back((pb - pa).norm());
+    }
+    if (lengths.empty()) return;
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
+    typical_ = std::max(1.0, lengths[lengths.size() / 2]);
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(9 * lengths.size() / 10), lengths.end());
+    long_ = lengths[9 * lengths.size() / 10];
+    // The city's own edges are not examples: its dead ends there are where its map was cut
+    // (the extract's border, or this very region when it was cut out of the city).
+    Vec2 lo = city.positions[0], hi = city.positions[0];
+    for (const Vec2& p : city.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    auto at_a_border = [&](const Vec2& p) {
+        const double margin = typical_;
+        if ((p - lo).minCoeff() < margin || (hi - p).minCoeff() < margin) return true;
+        return inside(region_, p) || distance_to_ring(region_, p) < 1.5 * typical_;
+    };
+    std::vector<std::size_t> class_counts(highway_class_count, 0);
+    std::size_t right = 0, angles = 0;
+    for (std::size_t c = 0; c < n; ++c) {
+        const auto& edges = at[c];
+        if (edges.empty() || edges.size() > 4) continue;
+        const Vec2 pc = city.positions[c];
+        if (at_a_border(pc)) continue;
+        if (std::isfinite(radius) && distance_to_ring(region_, pc) > radius) continue;
+        if (edges.size() >= 3) {
+            std::vector<double> around;
+            for (const EdgeId e : edges) around.push_back(angle_of(leaving(city, e, static_cast<VertexId>(c)) - pc));
+            std::sort(around.begin(), around.end());
+            for (std::size_t i = 0; i < around.size(); ++i) {
+                const double gap = (i + 1 < around.size() ? around[i + 1] : around[0] + 2 * M_PI) - around[i];
+                right += std::abs(gap - M_PI / 2) <= M_PI / 12;
+                ++angles;
+            }
+        }
+        for (const EdgeId in : edges) {
+            if (!traced_class(city.edge_highway[static_cast<std::size_t>(in)])) continue;
+            const Vec2 before = leaving(city, in, static_cast<VertexId>(c));
+            if ((pc - before).norm() < 1e-6) continue;
+            const double arriving = angle_of(pc - before);
+            Example example;
+            bool main = false;
+            bool usable = true;
+            for (const EdgeId out : edges) {
+                if (out == in) {
+                    main = main_class(city.edge_highway[static_cast<std::size_t>(out)]);
+                    continue;
+                }
+                if (!traced_class(city.edge_highway[static_cast<std::size_t>(out)])) continue;
+                const auto [a, b] = city.edges[static_cast<std::size_t>(out)];
+                const bool forward = a == static_cast<VertexId>(c);
+                const Vec2 far = city.positions[static_cast<std::size_t>(forward ? b : a)];
+                const double chord = (far - pc).norm();
+                if (chord < 1e-3) {
+                    usable = false;
+                    break;
+                }
+                Branch branch;
+                branch.length = chord;
+                branch.highway = city.edge_highway[static_cast<std::size_t>(out)];
+                branch.keeps_class = branch.highway == city.edge_highway[static_cast<std::size_t>(in)];
+                const double heading = angle_of(far - pc);
+                branch.turn = wrap(heading - arriving);
+                const Vec2* p = city.geometry_begin(out);
+                const std::size_t m = city.geometry_size(out);
+                const Vec2 x = unit(-heading);
+                for (std::size_t k = 0; k < m; ++k) {
+                    const Vec2 d = (forward ? p[k] : p[m - 1 - k]) - pc;
+                    // Rotated by -heading and scaled to a unit chord.
+                    branch.shape.push_back(Vec2(x.x() * d.x() - x.y() * d.y(), x.y() * d.x() + x.x() * d.y()) / chord);
+                }
+                branch.shape.front() = Vec2(0, 0);
+                branch.shape.back() = Vec2(1, 0);
+                example.branches.push_back(std::move(branch));
+            }
+            if (!usable) continue;
+            for (const Branch& b : example.branches) ++class_counts[static_cast<std::size_t>(b.highway)];
+            (main ? main_examples_ : other_examples_).push_back(std::move(example));
+        }
+    }
+    pick_common_class(class_counts);
+    if (angles > 0) right_share_ = static_cast<double>(right) / static_cast<double>(angles);
+}
+
+void Tracer::pick_common_class(const std::vector<std::size_t>& class_counts) {
+    const auto most = std::max_element(class_counts.begin(), class_counts.end());
+    if (*most > 0) common_class_ = static_cast<HighwayClass>(most - class_counts.begin());
+}
+
+const Example& Tracer::example_for(bool main) {
+    const auto& pool = (main && !main_examples_.empty()) || other_examples_.empty() ? main_examples_ : other_examples_;
+    std::uniform_int_distribution<std::size_t> pick(0, pool.size() - 1);
+    return pool[pick(rng_)];
+}
+
+} // namespace ggg::growth_detail::tracing

@@ -1,0 +1,120 @@
+// The second stage of tracing: the streets of the base that reach the region, where tracing
+// starts. A dead end or a junction with an open side that points into the region goes on into
+// it, straight, with a street of the city that goes on about straight (tracing_stages.hpp).
+#include "tracing_stages.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "ggg/graph/plane_geometry.hpp"
+
+namespace ggg::growth_detail::tracing {
+
+void Tracer::seed() {
+    const double reach = s_.border_m + std::max(3.0 * typical_, long_);
+    std::vector<std::pair<double, Street>> seeds;
+    for (std::size_t v = 0; v < base_vertices_; ++v) {
+        const auto id = static_cast<VertexId>(v);
+        if (degree(id) >= 4) continue;
+        const Vec2 p = g_.positions[v];
+        const bool in = inside(region_, p);
+        if (!in && distance_to_ring(region_, p) > reach) continue;
+        // Straight on from each street at v, where that leaves room and enters the region.
+        std::optional<std::pair<double, Street>> best;
+        for (const EdgeId e : adjacency_[v]) {
+            if (!traced_class(g_.edge_highway[static_cast<std::size_t>(e)])) continue;
+            const Vec2 back = leaving(g_, e, id) - p;
+            if (back.norm() < 1e-9) continue;
+            const Vec2 ahead = -back.normalized();
+            if (clearance(id, ahead) < M_PI / 3) continue;
+            const double enters = entry_distance(p, ahead, reach);
+            if (enters < 0) continue;
+            Street s;
+            s.from = id;
+            s.heading = angle_of(ahead);
+            s.highway = g_.edge_highway[static_cast<std::size_t>(e)];
+            s.main = main_class(s.highway);
+            if (!best || enters < best->first) best = std::pair{enters, s};
+        }
+        // A junction whose streets leave one side open towards the region (a street of it
+        // was cut there): a street across that side, down the middle of the gap.
+        if (!best && degree(id) >= 2) {
+            std::vector<double> angles;
+            for (const EdgeId e : adjacency_[v]) angles.push_back(angle_of(leaving(g_, e, id) - p));
+            std::sort(angles.begin(), angles.end());
+            double gap = 0.0, middle = 0.0;
+            for (std::size_t i = 0; i < angles.size(); ++i) {
+                const double next = i + 1 < angles.size() ? angles[i + 1] : angles[0] + 2 * M_PI;
+                if (next - angles[i] > gap) gap = next - angles[i], middle = angles[i] + 0.5 * (next - angles[i]);
+            }
+            const double enters = gap >= 0.8 * M_PI ? entry_distance(p, unit(middle), reach) : -1.0;
+            if (enters >= 0) {
+                Street s;
+                s.from = id;
+                s.heading = wrap(middle);
+                s.highway = common_class_;
+                s.main = false;
+                best = std::pair{enters, s};
+            }
+        }
+        // Else straight to the region, where that leaves room at v (a vertex whose streets
+        // all ran into the region has none left to go on from).
+        if (!best && !in) {
+            const Vec2 towards = nearest_on_ring(p) - p;
+            const double enters = towards.norm();
+            if (enters > 1e-9 && clearance(id, towards) >= M_PI / 3) {
+                Street s;
+                s.from = id;
+                s.heading = angle_of(towards);
+                s.highway = common_class_;
+                s.main = false;
+                best = std::pair{enters, s};
+            }
+        }
+        if (!best) continue;
+        seeds.push_back(*best);
+    }
+    // Each seed continues with a street of the city that goes on about straight.
+    for (auto& [enters, s] : seeds) {
+        const Branch* through = nullptr;
+        for (int attempt = 0; attempt < 64 && !through; ++attempt) {
+            const Example& example = example_for(s.main);
+            for (const Branch& b : example.branches) {
+                if (std::abs(b.turn) < M_PI / 6) through = &b;
+            }
+        }
+        if (!through) continue;
+        // Straight until it is in the region: the base's street goes on as it ran.
+        s.min_length = enters + 0.25 * typical_;
+        s.length = std::max(through->length, s.min_length);
+        s.shape = {Vec2(0, 0), Vec2(1, 0)};
+        s.order = order_++;
+        queue_.push(s);
+        ++report_.seeds;
+    }
+}
+
+Vec2 Tracer::nearest_on_ring(const Vec2& p) const {
+    Vec2 best = region_.front();
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0, j = region_.size() - 1; i < region_.size(); j = i++) {
+        const Vec2 d = region_[i] - region_[j];
+        const double t = std::clamp((p - region_[j]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+        const Vec2 q = region_[j] + t * d;
+        if ((q - p).norm() < best_d) best = q, best_d = (q - p).norm();
+    }
+    return best;
+}
+
+double Tracer::entry_distance(const Vec2& p, const Vec2& d, double reach) const {
+    if (inside(region_, p)) return 0.0;
+    const Vec2 q = p + reach * d;
+    double first = -1;
+    for (std::size_t i = 0, j = region_.size() - 1; i < region_.size(); j = i++) {
+        const auto m = segment_meeting(p, q, region_[j], region_[i]);
+        if (m && (first < 0 || m->first < first)) first = m->first;
+    }
+    return first < 0 ? -1.0 : first * reach;
+}
+
+} // namespace ggg::growth_detail::tracing

@@ -1,0 +1,273 @@
+#pragma once
+// The stages of tracing streets into a region (street_tracing.hpp), private to it: the city's
+// junctions learned as examples (tracing_examples.cpp), the base's streets that reach the
+// region found (tracing_seeds.cpp), each street's line laid along its heading and shape
+// (tracing_lines.cpp) and joined to what it meets or dropped (tracing_constraints.cpp), with
+// the graph and the indexes they all query and change (tracing_graph.cpp).
+// street_tracing.cpp runs them: the streets, one at a time, main roads first.
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <queue>
+#include <random>
+#include <tuple>
+#include <vector>
+
+#include "ggg/graph/geometric_graph.hpp"
+#include "ggg/graph/road_class.hpp"
+#include "ggg/graph/spatial_index.hpp"
+#include "ggg/progress.hpp"
+#include "street_tracing.hpp"
+
+namespace ggg::growth_detail::tracing {
+
+inline double angle_of(const Vec2& d) { return std::atan2(d.y(), d.x()); }
+inline Vec2 unit(double angle) { return {std::cos(angle), std::sin(angle)}; }
+inline double wrap(double a) { // into (-pi, pi]
+    while (a <= -M_PI) a += 2 * M_PI;
+    while (a > M_PI) a -= 2 * M_PI;
+    return a;
+}
+
+// Main roads (and their links) are traced before the streets between them.
+inline bool main_class(HighwayClass c) { return highway_rank(c) <= highway_rank(HighwayClass::tertiary_link); }
+
+// Motorways, trunk roads and the links of any road are not traced: they are not streets of a
+// district's pattern but routes through it, with ramps instead of junctions (the main roads
+// are continued across the grown streets afterwards, street_hierarchy.hpp).
+inline bool traced_class(HighwayClass c) {
+    switch (c) {
+    case HighwayClass::motorway: case HighwayClass::trunk: case HighwayClass::motorway_link: case HighwayClass::trunk_link:
+    case HighwayClass::primary_link: case HighwayClass::secondary_link: case HighwayClass::tertiary_link:
+        return false;
+    default:
+        return true;
+    }
+}
+
+// One street leaving an example junction, seen from a street arriving at it: its turn from
+// straight ahead, its length (end to end) and its shape in a frame where it runs from (0, 0)
+// to (1, 0).
+struct Branch {
+    double turn = 0.0;
+    double length = 0.0;
+    std::vector<Vec2> shape;
+    HighwayClass highway = HighwayClass::residential;
+    // Of the class of the street the example was seen from: a street that goes on keeps its
+    // own class (the example only says that it does not change there).
+    bool keeps_class = false;
+};
+
+// One of the city's junctions seen from one of its streets: what leaves it (nothing, at a dead end).
+struct Example {
+    std::vector<Branch> branches;
+};
+
+// A street to trace: from `from`, turned `heading` (radians), `length` metres, bent like `shape`.
+struct Street {
+    VertexId from = -1;
+    double heading = 0.0;
+    double length = 0.0;
+    std::vector<Vec2> shape;
+    HighwayClass highway = HighwayClass::residential;
+    bool main = false;
+    std::size_t generation = 0;
+    std::size_t order = 0;
+    int retries = 0;         // a street from the base that reaches the region is tried again
+    double min_length = 0.0; // (and must still reach into the region)
+};
+
+struct Later {
+    // Main roads first, then by generation (so that growth moves inward from every street at
+    // once), then in the order they were proposed.
+    bool operator()(const Street& a, const Street& b) const {
+        return std::make_tuple(!a.main, a.generation, a.order) > std::make_tuple(!b.main, b.generation, b.order);
+    }
+};
+
+// The point of edge e next to its end `at` (where its polyline leaves that end).
+inline Vec2 leaving(const GeometricGraph& g, EdgeId e, VertexId at) {
+    const Vec2* p = g.geometry_begin(e);
+    const std::size_t n = g.geometry_size(e);
+    return g.edges[static_cast<std::size_t>(e)][0] == at ? p[1] : p[n - 2];
+}
+
+// Traces the streets into one region (trace_streets).
+class Tracer {
+public:
+    // Learns the examples: the base's junctions near the region, or the city's where the base
+    // has too few (street_tracing.cpp).
+    Tracer(GeometricGraph& g, std::size_t base_vertices, const GeometricGraph& city, const std::vector<Vec2>& region,
+           const TracingSettings& settings, std::mt19937_64& rng, const ProgressCallback& progress);
+
+    // The streets traced, one at a time from a queue, until none is left or the budget is
+    // spent (street_tracing.cpp).
+    TracingReport run();
+
+private:
+    // ---- the city's junctions (tracing_examples.cpp) ---------------------------------------
+
+    // The junctions of `city` within `radius` of the region, each seen from each of its streets.
+    void learn_examples(const GeometricGraph& city, double radius);
+
+    // The class of a new side street: the examples' most common one.
+    void pick_common_class(const std::vector<std::size_t>& class_counts);
+
+    // An example junction at random: of a main road for a main road (where there are any).
+    const Example& example_for(bool main);
+
+    // ---- the graph and its indexes (tracing_graph.cpp) -------------------------------------
+
+    // The adjacency and the indexes of the graph as it is, and the number of streets expected
+    // (for the progress).
+    void index();
+
+    void index_edge(EdgeId e) { segments_.insert({spatial::edge_box(g_, e), e}); }
+
+    std::size_t degree(VertexId v) const { return adjacency_[static_cast<std::size_t>(v)].size(); }
+
+    VertexId other_end(EdgeId e, VertexId v) const {
+        const auto& ends = g_.edges[static_cast<std::size_t>(e)];
+        return ends[0] == v ? ends[1] : ends[0];
+    }
+
+    // Whether a street joins v and w.
+    bool adjacent(VertexId v, VertexId w) const;
+
+    // The smallest angle between direction d leaving v and the streets already at v.
+    double clearance(VertexId v, const Vec2& d) const;
+
+    // The first place where the polyline meets a street other than those at `from` (or at
+    // `to`, when given): (index of its piece, point, edge hit).
+    struct Hit {
+        std::size_t piece = 0;
+        double t = 0.0;
+        Vec2 where = Vec2::Zero();
+        EdgeId edge = -1;
+        std::size_t edge_piece = 0;
+    };
+    std::optional<Hit> first_hit(const std::vector<Vec2>& line, VertexId from, VertexId to = -1, EdgeId ignore = -1) const;
+
+    // Whether the line has a point outside the region, from its point `from_piece` on.
+    bool leaves_region(const std::vector<Vec2>& line, std::size_t from_piece) const;
+
+    // Whether the line has a point outside the region between its ends.
+    bool leaves_region_inside_line(const std::vector<Vec2>& line) const;
+
+    // Whether a street from v to w (its polyline from v) would close a block smaller than allowed.
+    bool closes_small_block(VertexId v, VertexId w) const;
+
+    // Whether a street from v to a new junction at x on edge e would leave a block on either
+    // side smaller than allowed.
+    bool splits_small_block(VertexId v, EdgeId e, const Vec2& x);
+
+    // The vertex (with a street) nearest p within `within`, other than `besides`.
+    std::optional<VertexId> nearest_vertex(const Vec2& p, double within, VertexId besides) const;
+
+    // The point of a street nearest p within `within`, of a street not at `besides`.
+    struct Near {
+        EdgeId edge = -1;
+        Vec2 where = Vec2::Zero();
+        std::size_t piece = 0;
+    };
+    std::optional<Near> nearest_street(const Vec2& p, double within, VertexId besides) const;
+
+    // A vertex, a street (counted in the report) and a street split at `where` (the new
+    // junction returned), with the adjacency and the indexes kept up.
+    VertexId add_vertex(const Vec2& p);
+    void add_street(VertexId v, VertexId w, const std::vector<Vec2>& line, HighwayClass highway);
+    VertexId split(EdgeId e, const Vec2& where);
+
+    // ---- the seeds (tracing_seeds.cpp) -----------------------------------------------------
+
+    // The base's streets that reach the region: a dead end or a junction with an open side
+    // that points into the region, close enough to reach it with one street.
+    void seed();
+
+    // The point of the region's border nearest p.
+    Vec2 nearest_on_ring(const Vec2& p) const;
+
+    // How far along the ray from p the region begins (0 inside it), or -1 beyond `reach`.
+    double entry_distance(const Vec2& p, const Vec2& d, double reach) const;
+
+    // ---- a street's line (tracing_lines.cpp) -----------------------------------------------
+
+    // Where the streets around a point run on a grid (most of their length along two
+    // perpendicular directions), a street traced from there keeps to it: a heading within a
+    // few degrees of the grid is turned onto it, so that the small bends of the examples do not
+    // add up. Local, so that a grid district and a winding one next to it each keep their own.
+    std::optional<double> local_grid(const Vec2& p) const;
+
+    // The heading turned onto the local grid at p, where it is within grid_tolerance_ of it.
+    double on_grid(double heading, const Vec2& p) const;
+
+    // The street's line from its start (or from p), along its heading (kept to the grid), its
+    // length and its shape.
+    std::vector<Vec2> lay(const Street& s) const { return lay_from(g_.positions[static_cast<std::size_t>(s.from)], s); }
+    std::vector<Vec2> lay_from(const Vec2& p, const Street& s) const;
+
+    // The polyline bent so that its end lands on `to` (its other points move in proportion).
+    static std::vector<Vec2> warped(std::vector<Vec2> line, const Vec2& to);
+
+    // ---- the local constraints (tracing_constraints.cpp) -----------------------------------
+
+    // Whether the street from `from` along `line` to the vertex `to` fits: crosses nothing,
+    // leaves room at both ends and closes no sliver.
+    bool fits_to_vertex(VertexId from, const std::vector<Vec2>& line, VertexId to) const;
+
+    // A street ending on a street nearly square to it meets it square (a T-junction), and one
+    // at a slant does so as often as the city's junctions are right angles: its last point moves
+    // to the foot of the perpendicular from the point before it, where that stays on the street
+    // near by and crosses nothing.
+    void squared(const Street& s, std::vector<Vec2>& line, EdgeId e, std::size_t piece);
+
+    // The street along `line`, bent to end at the junction w, added where it fits there.
+    bool end_at(const Street& s, const std::vector<Vec2>& line, VertexId w);
+
+    enum class Settled { joined, dropped, open };
+
+    // The street along `line` joined to what it meets (a crossing, a junction or a street near
+    // its end), or dropped where it cannot be; `open` when its end is on open ground.
+    Settled settle(const Street& s, const std::vector<Vec2>& line);
+
+    // ---- tracing (street_tracing.cpp) ------------------------------------------------------
+
+    // A new junction at the end of `line`, shaped like `example` (none: a dead end).
+    void open_end(const Street& s, const std::vector<Vec2>& line, const Example* example, bool mirror);
+
+    // A street of the base that reaches the region is what joins the growth to the city: where
+    // it fits nowhere, it is tried again turned a little further each time, and longer or shorter.
+    void retry(const Street& s);
+
+    // One street: laid, settled, and continued after an example junction (straight on
+    // through the example's bends, which are no junctions).
+    void trace(const Street& s);
+
+    void drop() { ++report_.dropped; }
+
+    GeometricGraph& g_;
+    std::size_t base_vertices_;
+    const std::vector<Vec2>& region_;
+    const TracingSettings& s_;
+    std::mt19937_64& rng_;
+    const ProgressCallback& progress_;
+    TracingReport report_;
+    std::vector<Example> main_examples_, other_examples_;
+    std::size_t fixed_edges_ = 0; // the streets there before: never split (their ids and ends are kept)
+    double right_share_ = 0.5; // of the examples' junctions: angles between neighbouring streets within 15 degrees of 90
+    HighwayClass common_class_ = HighwayClass::residential; // of the examples' streets: that of a new side street
+    double typical_ = 50.0; // median street of the examples, end to end
+    double long_ = 100.0;   // their 90th percentile
+    double expected_streets_ = 1.0;
+    const double min_angle_ = M_PI / 6;
+    // No new junction within this many typical streets of another: the spacing of junctions.
+    const double crowd_ = 0.5;
+    const double grid_tolerance_ = M_PI / 4;
+    std::vector<std::vector<EdgeId>> adjacency_;
+    spatial::RTree<spatial::VertexEntry> vertices_;
+    spatial::RTree<spatial::EdgeEntry> segments_;
+    std::priority_queue<Street, std::vector<Street>, Later> queue_;
+    std::size_t order_ = 0;
+};
+
+} // namespace ggg::growth_detail::tracing
