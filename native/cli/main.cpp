@@ -150,7 +150,15 @@ int main(int argc, char** argv) {
         }
         if (learn.chosen()) return learn.run();
         if (*grow) {
-            ggg::check_options(grow_options); // before the files are read
+            try { // before the files are read; the message names the flag, not the Python keyword
+                ggg::check_options(grow_options);
+            } catch (const ggg::UsageError& e) {
+                std::string message = e.what();
+                ggg::visit_grow_options(grow_options, [&](std::string_view keyword, std::string_view flag, std::string_view, const auto&) {
+                    if (message.rfind(std::string(keyword) + ":", 0) == 0) message = std::string(flag) + message.substr(keyword.size());
+                });
+                throw ggg::UsageError(message);
+            }
             const ggg::Grammar grammar = ggg::read_grammar(grow_grammar);
             ggg::GeometricGraph base;
             if (!grow_base.empty()) {
