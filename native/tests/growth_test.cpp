@@ -59,6 +59,9 @@ std::size_t polyline_crossings(const GeometricGraph& g, std::size_t from_edge) {
             bool crossed = false;
             for (std::size_t i = 0; i + 1 < np && !crossed; ++i) {
                 for (std::size_t k = 0; k + 1 < nq && !crossed; ++k) {
+                    // Pieces that meet at a shared end (two streets at one junction, nearly in
+                    // line) meet there, which the rounding of t and u must not take for a crossing.
+                    if (p[i] == q[k] || p[i] == q[k + 1] || p[i + 1] == q[k] || p[i + 1] == q[k + 1]) continue;
                     const Vec2 r = p[i + 1] - p[i], s = q[k + 1] - q[k];
                     const double d = cross2(r, s);
                     if (std::abs(d) < 1e-12) continue;
