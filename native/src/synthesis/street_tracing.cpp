@@ -55,16 +55,7 @@ void Tracer::open_end(const Street& s, const std::vector<Vec2>& line, const Exam
     add_street(s.from, v, line, s.highway);
     if (!example) return;
     const double arriving = angle_of(line.back() - line[line.size() - 2]);
-    // Once the district is as dense as the city around it, a junction opens no side streets:
-    // the street goes on along its straightest branch (and ends nowhere it would not have).
-    const Branch* on = nullptr;
-    if (static_cast<double>(g_.edge_count() - fixed_edges_) >= street_budget_) {
-        for (const Branch& b : example->branches) {
-            if (!on || std::abs(b.turn) < std::abs(on->turn)) on = &b;
-        }
-    }
     for (const Branch& b : example->branches) {
-        if (on && &b != on) continue;
         Street next;
         next.from = v;
         next.heading = arriving + (mirror ? -b.turn : b.turn);

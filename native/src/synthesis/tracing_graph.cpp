@@ -4,9 +4,6 @@
 #include "tracing_stages.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <cstdint>
-#include <unordered_set>
 
 #include "ggg/graph/plane_geometry.hpp"
 
@@ -26,27 +23,6 @@ void Tracer::index() {
     double area = 0.0;
     for (std::size_t i = 0, j = region_.size() - 1; i < region_.size(); j = i++) area += cross(region_[j], region_[i]);
     expected_streets_ = std::max(1.0, 2.0 * std::abs(area) / 2.0 / (typical_ * typical_));
-
-    // The density of the streets around the region: the base's streets whose middle lies
-    // outside it, within a band a quarter of its size wide, over the area of the cells of that
-    // band (two typical streets wide) that hold a street: the sea, a park or the edge of the
-    // data around the region are no sparser city.
-    double size = 0.0;
-    for (const Vec2& q : region_) size = std::max(size, (q - region_.front()).norm());
-    const double band = 0.25 * size, cell = 2.0 * typical_;
-    std::size_t around = 0;
-    std::unordered_set<std::uint64_t> cells;
-    for (std::size_t e = 0; e < g_.edge_count(); ++e) {
-        const auto [a, b] = g_.edges[e];
-        const Vec2 middle = 0.5 * (g_.positions[static_cast<std::size_t>(a)] + g_.positions[static_cast<std::size_t>(b)]);
-        if (inside(region_, middle) || distance_to_ring(region_, middle) > band) continue;
-        ++around;
-        const auto cx = static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(middle.x() / cell)));
-        const auto cy = static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(middle.y() / cell)));
-        cells.insert((static_cast<std::uint64_t>(cx) << 32) | cy);
-    }
-    const double band_area = static_cast<double>(cells.size()) * cell * cell;
-    if (around >= 20 && band_area > 0) street_budget_ = density_margin_ * static_cast<double>(around) / band_area * 0.5 * std::abs(area);
 }
 
 bool Tracer::adjacent(VertexId v, VertexId w) const {

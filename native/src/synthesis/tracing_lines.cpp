@@ -38,9 +38,7 @@ double Tracer::on_grid(double heading, const Vec2& p) const {
 }
 
 std::vector<Vec2> Tracer::lay_from(const Vec2& p, const Street& s) const {
-    // A street from the base into the region keeps the heading it was seeded with (checked to
-    // reach the region over open ground); the others keep to the grid around.
-    const Vec2 x = s.length * unit(s.min_length > 0 ? s.heading : on_grid(s.heading, p));
+    const Vec2 x = s.length * unit(on_grid(s.heading, p));
     std::vector<Vec2> line;
     for (const Vec2& q : s.shape) line.push_back(p + Vec2(x.x() * q.x() - x.y() * q.y(), x.y() * q.x() + x.x() * q.y()));
     return line;

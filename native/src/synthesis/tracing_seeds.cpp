@@ -19,11 +19,6 @@ void Tracer::seed() {
         const Vec2 p = g_.positions[v];
         const bool in = inside(region_, p);
         if (!in && distance_to_ring(region_, p) > reach) continue;
-        // A way into the region that crosses no street before it is in (a street that would
-        // is laid along another heading, below).
-        auto clear = [&](const Vec2& d, double enters) {
-            return in || !first_hit({p, p + (enters + 0.25 * typical_) * d}, id);
-        };
         // Straight on from each street at v, where that leaves room and enters the region.
         std::optional<std::pair<double, Street>> best;
         for (const EdgeId e : adjacency_[v]) {
@@ -39,7 +34,7 @@ void Tracer::seed() {
             s.heading = angle_of(ahead);
             s.highway = g_.edge_highway[static_cast<std::size_t>(e)];
             s.main = main_class(s.highway);
-            if (clear(ahead, enters) && (!best || enters < best->first)) best = std::pair{enters, s};
+            if (!best || enters < best->first) best = std::pair{enters, s};
         }
         // A junction whose streets leave one side open towards the region (a street of it
         // was cut there): a street across that side, down the middle of the gap.
@@ -59,7 +54,7 @@ void Tracer::seed() {
                 s.heading = wrap(middle);
                 s.highway = common_class_;
                 s.main = false;
-                if (clear(unit(middle), enters)) best = std::pair{enters, s};
+                best = std::pair{enters, s};
             }
         }
         // Else straight to the region, where that leaves room at v (a vertex whose streets
@@ -73,24 +68,7 @@ void Tracer::seed() {
                 s.heading = angle_of(towards);
                 s.highway = common_class_;
                 s.main = false;
-                if (clear(towards.normalized(), enters)) best = std::pair{enters, s};
-            }
-            // Where a street is in the way, the heading nearest to that one that reaches the
-            // region over open ground (Parish and Mueller's local constraints turn a street
-            // rather than drop it).
-            for (int k = 1; !best && enters > 1e-9 && k <= 18; ++k) {
-                for (const int side : {1, -1}) {
-                    const Vec2 d = unit(angle_of(towards) + side * k * (M_PI / 36));
-                    const double in_at = entry_distance(p, d, reach);
-                    if (in_at < 0 || clearance(id, d) < M_PI / 3 || !clear(d, in_at)) continue;
-                    Street s;
-                    s.from = id;
-                    s.heading = angle_of(d);
-                    s.highway = common_class_;
-                    s.main = false;
-                    best = std::pair{in_at, s};
-                    break;
-                }
+                best = std::pair{enters, s};
             }
         }
         if (!best) continue;

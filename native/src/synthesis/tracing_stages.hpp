@@ -7,7 +7,6 @@
 // street_tracing.cpp runs them: the streets, one at a time, main roads first.
 #include <cmath>
 #include <cstddef>
-#include <limits>
 #include <optional>
 #include <queue>
 #include <random>
@@ -260,12 +259,6 @@ private:
     double typical_ = 50.0; // median street of the examples, end to end
     double long_ = 100.0;   // their 90th percentile
     double expected_streets_ = 1.0;
-    // A grown district is as dense as the city around it: once this many streets were added,
-    // a junction opens no new side streets (the streets already started still go on to where
-    // they end), so that a sparser region, or chance, does not crowd it. Infinite where the
-    // region has too few streets around to say.
-    double street_budget_ = std::numeric_limits<double>::infinity();
-    const double density_margin_ = 1.3;
     const double min_angle_ = M_PI / 6;
     // No new junction within this many typical streets of another: the spacing of junctions.
     const double crowd_ = 0.5;
