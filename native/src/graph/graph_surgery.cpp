@@ -39,18 +39,26 @@ void complete_instances(GeometricGraph& to) {
     if (!to.instances.empty()) to.instances.resize(to.vertex_count(), -1);
 }
 
+// Appends the vertices v of `graph` with keep[v] to `to`, in order; returns each vertex's id in
+// `to` (-1 where not kept) and adds the kept ones' ids in `graph` to `kept`.
+std::vector<VertexId> copy_kept(const GeometricGraph& graph, const std::vector<bool>& keep, GeometricGraph& to,
+                                std::vector<VertexId>& kept) {
+    std::vector<VertexId> index(graph.vertex_count(), -1);
+    for (std::size_t v = 0; v < graph.vertex_count(); ++v) {
+        if (!keep[v]) continue;
+        index[v] = copy_vertex(graph, static_cast<VertexId>(v), to);
+        kept.push_back(static_cast<VertexId>(v));
+    }
+    return index;
+}
+
 } // namespace
 
 Subgraph induced_subgraph(const GeometricGraph& graph, const std::vector<bool>& keep) {
     check_keep(graph, keep);
     Subgraph out;
     out.graph.origin = graph.origin;
-    std::vector<VertexId> index(graph.vertex_count(), -1);
-    for (std::size_t v = 0; v < graph.vertex_count(); ++v) {
-        if (!keep[v]) continue;
-        index[v] = copy_vertex(graph, static_cast<VertexId>(v), out.graph);
-        out.vertex_ids.push_back(static_cast<VertexId>(v));
-    }
+    const std::vector<VertexId> index = copy_kept(graph, keep, out.graph, out.vertex_ids);
     for (std::size_t e = 0; e < graph.edge_count(); ++e) {
         const auto [a, b] = graph.edges[e];
         const VertexId u = index[static_cast<std::size_t>(a)], v = index[static_cast<std::size_t>(b)];
@@ -71,12 +79,7 @@ Regrown with_grown(const GeometricGraph& graph, const std::vector<bool>& keep, c
     }
     Regrown out;
     out.graph.origin = graph.origin;
-    std::vector<VertexId> index(graph.vertex_count(), -1);
-    for (std::size_t v = 0; v < graph.vertex_count(); ++v) {
-        if (!keep[v]) continue;
-        index[v] = copy_vertex(graph, static_cast<VertexId>(v), out.graph);
-        out.source_vertex.push_back(static_cast<VertexId>(v));
-    }
+    const std::vector<VertexId> index = copy_kept(graph, keep, out.graph, out.source_vertex);
     // A vertex of `grown`: one of the part (kept), else a new one after the kept.
     std::vector<VertexId> grown_index(grown.vertex_count(), -1);
     for (std::size_t i = 0; i < part_vertices; ++i) {
