@@ -41,6 +41,18 @@ def _status_text(context, text):
             area.tag_redraw()
 
 
+def _end_progress(operator, context):
+    """Remove a modal operator's timer and progress bar, and give the status bar back."""
+    wm = context.window_manager
+    if operator._timer is not None:
+        wm.event_timer_remove(operator._timer)
+        operator._timer = None
+    if operator._progress_shown:
+        wm.progress_end()
+        operator._progress_shown = False
+    _status_text(context, None)
+
+
 class ModalJobOperator:
     """The running of a core.jobs.NativeJob for an operator (a mixin before
     bpy.types.Operator).
@@ -173,14 +185,7 @@ class ModalJobOperator:
 
     def _cleanup(self, context):
         self._running.pop(self._object_name, None)
-        wm = context.window_manager
-        if self._timer is not None:
-            wm.event_timer_remove(self._timer)
-            self._timer = None
-        if self._progress_shown:
-            wm.progress_end()
-            self._progress_shown = False
-        _status_text(context, None)
+        _end_progress(self, context)
 
     def _end_modal(self, context):
         self._job.join()
@@ -359,14 +364,7 @@ class ModalRenderOperator:
 
     def _cleanup(self, context):
         unwatch_render(self._key)
-        wm = context.window_manager
-        if self._timer is not None:
-            wm.event_timer_remove(self._timer)
-            self._timer = None
-        if self._progress_shown:
-            wm.progress_end()
-            self._progress_shown = False
-        _status_text(context, None)
+        _end_progress(self, context)
 
     def _end(self, context):
         """The render job has ended: report what it wrote (main thread)."""

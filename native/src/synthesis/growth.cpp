@@ -164,14 +164,7 @@ void Grower::reindex() {
 void Grower::index_graph() {
     base_vertices_ = g_.vertex_count();
     base_edges_ = g_.edge_count();
-    adjacency_.assign(g_.vertex_count(), {});
-    for (std::size_t e = 0; e < g_.edge_count(); ++e) {
-        const auto [a, b] = g_.edges[e];
-        adjacency_[static_cast<std::size_t>(a)].push_back(b);
-        adjacency_[static_cast<std::size_t>(b)].push_back(a);
-        index_edge(static_cast<EdgeId>(e));
-    }
-    for (std::size_t v = 0; v < g_.vertex_count(); ++v) vertices_.insert({point(g_.positions[v]), static_cast<VertexId>(v)});
+    reindex();
 }
 
 bool Grower::crosses(const Vec2& a, const Vec2& b) const {
