@@ -95,7 +95,7 @@ def replacement_figure(out):
     frame(axes[0], lo, hi, "the most frequent block ({} of {} copies chosen)".format(len(occ), block.frequency))
     kept = replaced.edge_count - 0
     draw(axes[1], replaced)
-    frame(axes[1], lo, hi, "each replaced by a plaza, joined to its streets ({} streets)".format(report["reconnected_streets"]))
+    frame(axes[1], lo, hi, "each replaced by a plaza, joined to the junctions around ({} streets)".format(report["joined_streets"]))
     fig.text(0.99, 0.01, CREDIT, ha="right", fontsize=7, color="#666666")
     fig.tight_layout()
     fig.savefig(out, dpi=110, metadata=PNG_METADATA)

@@ -9,6 +9,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "ggg/graph/plane_geometry.hpp"
+
 namespace ggg::test {
 
 namespace fs = std::filesystem;
@@ -74,5 +76,34 @@ CliResult run_cli(const std::string& arguments) {
     err << err_in.rdbuf();
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err.str()};
 }
+
+std::size_t polyline_crossings(const GeometricGraph& g, std::size_t from_edge) {
+    std::size_t n = 0;
+    for (std::size_t e = from_edge; e < g.edge_count(); ++e) {
+        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
+        const std::size_t np = g.geometry_size(static_cast<EdgeId>(e));
+        for (std::size_t f = 0; f < g.edge_count(); ++f) {
+            if (f == e || (f >= from_edge && f < e)) continue;
+            const Vec2* q = g.geometry_begin(static_cast<EdgeId>(f));
+            const std::size_t nq = g.geometry_size(static_cast<EdgeId>(f));
+            bool crossed = false;
+            for (std::size_t i = 0; i + 1 < np && !crossed; ++i) {
+                for (std::size_t k = 0; k + 1 < nq && !crossed; ++k) {
+                    // Pieces that meet at a shared end (two streets at one junction, nearly in
+                    // line) meet there, which the rounding of t and u must not take for a crossing.
+                    if (p[i] == q[k] || p[i] == q[k + 1] || p[i + 1] == q[k] || p[i + 1] == q[k + 1]) continue;
+                    const Vec2 r = p[i + 1] - p[i], s = q[k + 1] - q[k];
+                    const double d = cross(r, s);
+                    if (std::abs(d) < 1e-12) continue;
+                    const double t = cross(q[k] - p[i], s) / d, u = cross(q[k] - p[i], r) / d;
+                    crossed = t > 1e-6 && t < 1 - 1e-6 && u > 1e-6 && u < 1 - 1e-6;
+                }
+            }
+            n += crossed;
+        }
+    }
+    return n;
+}
+
 
 } // namespace ggg::test

@@ -21,6 +21,10 @@ std::vector<std::string> corpus_files();
 // Number of connected components (isolated vertices count as one each).
 std::size_t component_count(const GeometricGraph& g);
 
+// Pairs of edges, at least one of them from `from_edge` on, whose polylines cross away from
+// their ends: a street that passes over another without an intersection.
+std::size_t polyline_crossings(const GeometricGraph& g, std::size_t from_edge = 0);
+
 // Result of running the CLI: exit code, stdout, stderr.
 struct CliResult {
     int code;

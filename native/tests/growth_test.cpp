@@ -46,36 +46,6 @@ std::size_t crossings(const GeometricGraph& g, std::size_t from_edge) {
     return n;
 }
 
-// Pairs of streets (one of them grown) whose polylines cross away from their ends.
-std::size_t polyline_crossings(const GeometricGraph& g, std::size_t from_edge) {
-    std::size_t n = 0;
-    for (std::size_t e = from_edge; e < g.edge_count(); ++e) {
-        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
-        const std::size_t np = g.geometry_size(static_cast<EdgeId>(e));
-        for (std::size_t f = 0; f < g.edge_count(); ++f) {
-            if (f == e || (f >= from_edge && f < e)) continue;
-            const Vec2* q = g.geometry_begin(static_cast<EdgeId>(f));
-            const std::size_t nq = g.geometry_size(static_cast<EdgeId>(f));
-            bool crossed = false;
-            for (std::size_t i = 0; i + 1 < np && !crossed; ++i) {
-                for (std::size_t k = 0; k + 1 < nq && !crossed; ++k) {
-                    // Pieces that meet at a shared end (two streets at one junction, nearly in
-                    // line) meet there, which the rounding of t and u must not take for a crossing.
-                    if (p[i] == q[k] || p[i] == q[k + 1] || p[i + 1] == q[k] || p[i + 1] == q[k + 1]) continue;
-                    const Vec2 r = p[i + 1] - p[i], s = q[k + 1] - q[k];
-                    const double d = cross2(r, s);
-                    if (std::abs(d) < 1e-12) continue;
-                    const double t = cross2(q[k] - p[i], s) / d, u = cross2(q[k] - p[i], r) / d;
-                    crossed = t > 1e-6 && t < 1 - 1e-6 && u > 1e-6 && u < 1 - 1e-6;
-                }
-            }
-            n += crossed;
-        }
-    }
-    return n;
-}
-
-
 bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
     bool in = false;
     for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
@@ -121,7 +91,7 @@ TEST(Growth, StaysInsideCrossesNothingAndKeepsTheBase) {
     for (std::size_t e = 0; e < t.graph.edge_count(); ++e) ASSERT_EQ(grown.edges[e], t.graph.edges[e]);
     for (std::size_t v = t.graph.vertex_count(); v < grown.vertex_count(); ++v) EXPECT_TRUE(inside(region, grown.positions[v])) << v;
     // The town's own bridge over the motorway is the one crossing it already has.
-    EXPECT_EQ(polyline_crossings(grown, t.graph.edge_count()), 0u);
+    EXPECT_EQ(test::polyline_crossings(grown, t.graph.edge_count()), 0u);
     EXPECT_TRUE(check_simple(grown).empty()) << check_simple(grown);
     // It starts from the town's streets at the border: some grown streets end on them.
     EXPECT_GT(report.border_connections + report.traced_seeds, 0u);
@@ -349,7 +319,7 @@ TEST(Growth, TracedStreetsContinueTheSeveredStreetsOfAGrid) {
         for (const VertexId v : severed) continued += degree[static_cast<std::size_t>(v)] > base_degree[static_cast<std::size_t>(v)];
         EXPECT_GE(continued, 20u) << "seed " << seed << ": of the 24 severed streets";
         EXPECT_LE(*std::max_element(degree.begin(), degree.end()), 4u) << "seed " << seed;
-        EXPECT_EQ(polyline_crossings(grown, base.edge_count()), 0u) << "seed " << seed;
+        EXPECT_EQ(test::polyline_crossings(grown, base.edge_count()), 0u) << "seed " << seed;
         for (std::size_t v = base.vertex_count(); v < grown.vertex_count(); ++v) EXPECT_TRUE(inside(hole, grown.positions[v])) << v;
         for (std::size_t e = 0; e < base.edge_count(); ++e) ASSERT_EQ(grown.edges[e], base.edges[e]);
         // About as many streets as the grid had there (its 6 x 6 blocks hold about 84).

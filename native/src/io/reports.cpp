@@ -234,7 +234,8 @@ nlohmann::json replacement_report_json(const ReplaceReport& report) {
     return {{"replaced", report.replaced},
             {"removed_vertices", report.removed_vertices},
             {"added_vertices", report.added_vertices},
-            {"reconnected_streets", report.reconnected_streets}};
+            {"joined_streets", report.joined_streets},
+            {"intersections", report.intersections}};
 }
 
 } // namespace ggg

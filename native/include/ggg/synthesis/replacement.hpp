@@ -34,7 +34,8 @@ struct ReplaceReport {
     std::size_t replaced = 0;          // occurrences replaced
     std::size_t removed_vertices = 0;
     std::size_t added_vertices = 0;
-    std::size_t reconnected_streets = 0; // streets of the surroundings joined to a replacement
+    std::size_t joined_streets = 0;      // streets made to join a piece to the junctions around it
+    std::size_t intersections = 0;       // crossings of a replacement's streets made junctions
 };
 
 // `graph` with the occurrences `chosen` of `group` (indices, pairwise without shared vertices)
