@@ -60,6 +60,109 @@ def inside(points, x0, y0, x1, y1):
     return (points[:, 0] >= x0) & (points[:, 0] <= x1) & (points[:, 1] >= y0) & (points[:, 1] <= y1)
 
 
+def clip_outside(line, x0, y0, x1, y1):
+    """The pieces of a polyline outside the rectangle, as (points, starts at the first point,
+    ends at the last point): where a piece leaves the line, it ends on the rectangle's border."""
+    def out(p):
+        return not (x0 <= p[0] <= x1 and y0 <= p[1] <= y1)
+
+    def crossing(a, b):
+        # The parameters t in (0, 1) where segment ab meets the rectangle's border, in order.
+        ts = []
+        d = b - a
+        for axis, lo, hi in ((0, x0, x1), (1, y0, y1)):
+            if d[axis] != 0:
+                for edge in (lo, hi):
+                    t = (edge - a[axis]) / d[axis]
+                    if 0 < t < 1:
+                        q = a + t * d
+                        other = 1 - axis
+                        bounds = (y0, y1) if other == 1 else (x0, x1)
+                        if bounds[0] - 1e-9 <= q[other] <= bounds[1] + 1e-9:
+                            ts.append(t)
+        return sorted(ts)
+
+    pieces, current, starts = [], None, False
+    for i in range(len(line) - 1):
+        a, b = line[i], line[i + 1]
+        ts = [0.0] + crossing(a, b) + [1.0]
+        for j in range(len(ts) - 1):
+            mid = a + 0.5 * (ts[j] + ts[j + 1]) * (b - a)
+            p, q = a + ts[j] * (b - a), a + ts[j + 1] * (b - a)
+            if out(mid):
+                if current is None:
+                    current, starts = [p], (i == 0 and j == 0)
+                current.append(q)
+            elif current is not None:
+                pieces.append((np.array(current), starts, False))
+                current = None
+    if current is not None:
+        pieces.append((np.array(current), starts, True))
+    return pieces
+
+
+def inner_dead_end_share(graph, hole):
+    """The share of dead ends among the vertices strictly inside the hole: streets that end
+    there, not streets the cut (or the hole's border) ended."""
+    degree = np.bincount(np.asarray(graph.edges, dtype=np.int64).ravel(), minlength=graph.vertex_count)
+    x0, y0, x1, y1 = hole
+    margin = 1e-6 * max(x1 - x0, y1 - y0)
+    inner = inside(graph.positions, x0 + margin, y0 + margin, x1 - margin, y1 - margin) & (degree > 0)
+    return float(np.mean(degree[inner] == 1)) if inner.any() else float("nan")
+
+
+def crosses_hole(graph, hole):
+    """Per edge, whether the hole takes any of it."""
+    offsets, points = graph.edge_geometry()
+    taken = np.zeros(graph.edge_count, dtype=bool)
+    for e in range(graph.edge_count):
+        pieces = clip_outside(points[offsets[e]:offsets[e + 1]], *hole)
+        taken[e] = not (len(pieces) == 1 and pieces[0][1] and pieces[0][2])
+    return taken
+
+
+def cut_hole(graph, hole):
+    """The city with the square hole cut out, as a knife would: every street that crosses the
+    hole's border is cut there and keeps its part outside, which ends at the border. Returns
+    the rest and, per vertex of the graph, its index in the rest (-1 inside), and the vertices
+    of the rest where the cut left a street's end (the severed streets)."""
+    p = graph.positions
+    in_hole = inside(p, *hole)
+    edges = np.asarray(graph.edges, dtype=np.int64)
+    offsets, points = graph.edge_geometry()
+    index = np.full(graph.vertex_count, -1, dtype=np.int64)
+    index[~in_hole] = np.arange(int((~in_hole).sum()))
+    positions = list(p[~in_hole])
+    new_edges, lines, classes, ends = [], [], [], []
+    highway = np.asarray(graph.edge_highway)
+    for e, (a, b) in enumerate(edges):
+        line = points[offsets[e]:offsets[e + 1]]
+        pieces = clip_outside(line, *hole)
+        if len(pieces) == 1 and pieces[0][1] and pieces[0][2]:
+            new_edges.append((index[a], index[b]))
+            lines.append(line)
+            classes.append(highway[e])
+            continue
+        for piece, starts, finishes in pieces:
+            if starts == finishes:
+                continue  # the whole line outside (handled above) or a piece touching neither end
+            end = len(positions)
+            positions.append(piece[-1] if starts else piece[0])
+            ends.append(end)
+            if starts:
+                new_edges.append((index[a], end))
+                lines.append(piece)
+            else:
+                new_edges.append((end, index[b]))
+                lines.append(piece)
+            classes.append(highway[e])
+    new_offsets = np.concatenate([[0], np.cumsum([len(line) for line in lines])]).astype(np.int64)
+    rest = ggg.Graph.from_arrays(np.asarray(positions), np.asarray(new_edges, dtype=np.int64).reshape(-1, 2),
+                                 graph.origin_latlon, edge_highway=np.asarray(classes),
+                                 edge_geometry=(new_offsets, np.concatenate(lines)))
+    return rest, index, np.asarray(ends, dtype=np.int64)
+
+
 def components(n, edges):
     parent = np.arange(n)
 
@@ -138,13 +241,13 @@ def measure(city, seeds):
     in_hole = inside(p, *hole)
     in_outer = inside(p, *outer)
     edges = np.asarray(graph.edges)
-    rest, rest_index = subgraph(graph, ~in_hole)
-    # The real streets of the hole: every edge with an end inside it.
-    real, _ = subgraph(graph, np.zeros(graph.vertex_count, dtype=bool), in_hole[edges[:, 0]] | in_hole[edges[:, 1]])
+    rest, rest_index, border = cut_hole(graph, hole)
+    # The real streets of the hole: every street the cut took, whole or in part (an end
+    # inside, or passing through).
+    taken = crosses_hole(graph, hole)
+    real, _ = subgraph(graph, np.zeros(graph.vertex_count, dtype=bool), taken)
     ring, _ = subgraph(graph, np.zeros(graph.vertex_count, dtype=bool),
-                       (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~in_hole[edges[:, 0]] & ~in_hole[edges[:, 1]])
-    severed = edges[in_hole[edges[:, 0]] != in_hole[edges[:, 1]]]
-    border = np.unique(rest_index[np.where(in_hole[severed[:, 0]], severed[:, 1], severed[:, 0])])
+                       (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~taken)
     t = time.perf_counter()
     grammar, stats = ggg.learn(rest)
     learn_seconds = time.perf_counter() - t
@@ -175,7 +278,7 @@ def measure(city, seeds):
             "continued": continued, "joined": joined,
             "stars": c["a"]["star_share"], "real_stars": c["b"]["star_share"],
             "right": c["a"]["right_angle_share"], "real_right": c["b"]["right_angle_share"],
-            "dead": c["a"]["dead_end_share"], "real_dead": c["b"]["dead_end_share"],
+            "dead": inner_dead_end_share(part, hole), "real_dead": inner_dead_end_share(real, hole),
             "deg2": c["a"]["degree2_share"], "real_deg2": c["b"]["degree2_share"],
             "through": c["a"]["through_share"], "real_through": c["b"]["through_share"],
             "circuity": c["a"]["circuity"], "real_circuity": c["b"]["circuity"],

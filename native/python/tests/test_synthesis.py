@@ -47,10 +47,12 @@ def test_replace_squares_by_plazas():
     out, report = ggg.replace_isogroup(g, best, ring, edges)
     m = len(best.non_overlapping)
     assert report["replaced"] == m == 16
-    assert out.vertex_count == g.vertex_count - 4 * m + 8 * m
-    assert out.edge_count == g.edge_count - 4 * m + 8 * m
+    # The squares' corners where other streets meet stay, each joined to its plaza.
+    assert out.vertex_count == g.vertex_count - report["removed_vertices"] + 8 * m
+    assert out.edge_count == g.edge_count - 4 * m + 8 * m + report["joined_streets"]
+    assert report["joined_streets"] == 4 * m - report["removed_vertices"] and report["intersections"] == 0
     one, report = ggg.replace_isogroup(g, best, ring, edges, occurrences=np.array([best.non_overlapping[0]]))
-    assert report["replaced"] == 1 and one.vertex_count == g.vertex_count + 4
+    assert report["replaced"] == 1 and one.vertex_count == g.vertex_count - report["removed_vertices"] + 8
     with pytest.raises(ggg.UsageError):
         ggg.replace_isogroup(g, best, ring, np.array([[0, 99]]))
     with pytest.raises(ggg.UsageError):

@@ -28,7 +28,22 @@ void Grower::close_dead_ends() {
     if (lengths.empty() || o_.close_dead_ends <= 0) return;
     std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
     const double reach = o_.close_dead_ends * lengths[lengths.size() / 2];
+    // The dead ends to join: the grown ones, and those of the base that reach the region
+    // (a street cut at its border, pointing in) where nothing was grown on: a street that
+    // reaches the region is joined to what grew there, even where tracing could not carry
+    // it on (two carriageways side by side, a street too close to another).
+    std::vector<VertexId> loose;
+    for (std::size_t v = 0; v < base_vertices_; ++v) {
+        if (adjacency_[v].size() != 1) continue;
+        const Vec2 p = g_.positions[v];
+        const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
+        if (near_region(p, 0.25 * reach) && inside(region_, p + 0.5 * reach * ahead)) loose.push_back(static_cast<VertexId>(v));
+    }
     for (std::size_t v = base_vertices_; v < g_.vertex_count(); ++v) {
+        if (adjacency_[v].size() == 1) loose.push_back(static_cast<VertexId>(v));
+    }
+    for (const VertexId loose_end : loose) {
+        const auto v = static_cast<std::size_t>(loose_end);
         if (adjacency_[v].size() != 1) continue;
         const Vec2 p = g_.positions[v];
         const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
@@ -50,7 +65,7 @@ void Grower::close_dead_ends() {
         }
         EdgeAttributes attributes;
         attributes.highway = g_.edge_highway[g_.edge_count() - 1];
-        for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) {
+        for (std::size_t e = v < base_vertices_ ? 0 : base_edges_; e < g_.edge_count(); ++e) {
             if (g_.edges[e][0] == static_cast<VertexId>(v) || g_.edges[e][1] == static_cast<VertexId>(v)) attributes.highway = g_.edge_highway[e];
         }
         if (best < 0) {
