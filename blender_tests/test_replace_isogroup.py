@@ -1,8 +1,9 @@
 """Replace (roads.replace_isogroup, paper Fig. 1) and Store as Piece (roads.store_replacement):
 a ring stored as the piece (from an object, or selected in Edit Mode), the square blocks of a
-street grid replaced by it as ggg.replace_isogroup replaces them, the streets around joined to
-the rings, the analysis cleared; the analysis run again when its isogroups are no longer in
-memory; bad input; the panel; the sample town; undo (in a windowed Blender under Xvfb)."""
+street grid replaced by it as ggg.replace_isogroup replaces them (each ring inside its square,
+the corners where other streets meet kept and joined to it), the analysis cleared; the
+analysis run again when its isogroups are no longer in memory; bad input; the panel; the
+sample town; undo (in a windowed Blender under Xvfb)."""
 
 import json
 import math
@@ -109,11 +110,35 @@ def expected_replacement(ggg, obj, index, positions, edges, highway=None):
 
 
 def counts_reported(message):
-    """(occurrences, order, removed, added, reconnected) of a Replace report."""
+    """(occurrences, order, removed, added, joined, intersections) of a Replace report."""
     found = re.search(r"Replaced ([\d,]+) occurrences? of the (\d+)-vertex pattern in \S+: ([\d,]+) vert(?:ex|ices) "
-                      r"removed, ([\d,]+) added, ([\d,]+) streets? reconnected", message)
+                      r"removed, ([\d,]+) added, ([\d,]+) streets? joined(?:, ([\d,]+) intersections? made)?; "
+                      r"the analysis is cleared", message)
     assert found, message
-    return tuple(int(group.replace(",", "")) for group in found.groups())
+    return tuple(int((group or "0").replace(",", "")) for group in found.groups())
+
+
+def area_centroid(corners):
+    """The centroid of the area of the convex polygon with these corners (any order)."""
+    corners = np.asarray(corners, dtype=np.float64)
+    middle = corners.mean(axis=0)
+    ring = corners[np.argsort(np.arctan2(*(corners - middle).T[::-1]))]
+    following = np.roll(ring, -1, axis=0)
+    cross = ring[:, 0] * following[:, 1] - following[:, 0] * ring[:, 1]
+    return ((ring + following) * cross[:, None]).sum(axis=0) / (3.0 * cross.sum())
+
+
+def hull_ratio(points, corners):
+    """For each point, how far out it is in the convex polygon ``corners`` (any order), seen
+    from the polygon's centroid: 0 at the centroid, 1 on a side, > 1 outside."""
+    corners = np.asarray(corners, dtype=np.float64)
+    centre = area_centroid(corners)
+    ring = corners[np.argsort(np.arctan2(*(corners - centre).T[::-1]))]
+    following = np.roll(ring, -1, axis=0)
+    normals = np.column_stack((following[:, 1] - ring[:, 1], ring[:, 0] - following[:, 0]))  # outward
+    room = np.einsum("ij,ij->i", normals, ring - centre)
+    assert np.all(room > 0)
+    return ((np.asarray(points) - centre) @ normals.T / room).max(axis=1)
 
 
 # --- storing the piece ----------------------------------------------------------------------
@@ -258,25 +283,47 @@ def test_store_needs_a_road_graph(grid, op_results):
 # --- replacing ----------------------------------------------------------------------------------
 
 def test_replace_the_squares_by_a_ring(grid, ggg, reports, op_results):
+    classes = list(ggg.highway_classes())
+    cells = grid_cells(grid)
+    by_cell = {ij: v for v, ij in cells.items()}
+    positions, edges = arrays(grid)
+    # One street of the south-west square made secondary: the junctions at its ends are
+    # joined to the ring with that class, the others with the squares' residential.
+    secondary = next(e for e, (a, b) in enumerate(edges.tolist())
+                     if {cells.get(a), cells.get(b)} == {(1, 0), (1, 1)})
+    old_highway = mesh_build.read_attribute(grid.data, "highway", np.int64)
+    old_highway[secondary] = classes.index("secondary")
+    mesh_build.set_attribute(grid.data, "highway", 'INT', 'EDGE', old_highway)
     index = analysed(grid)
     piece_obj = ring_object()
     activate(grid)
     assert bpy.ops.roads.store_replacement(object=piece_obj.name) == {'FINISHED'}
-    positions, edges = arrays(grid)
-    old_highway = mesh_build.read_attribute(grid.data, "highway", np.int64)
     mesh, surface_obj = grid.data, roads.surface_object(grid)
     piece_positions, piece_edges = in_graph_frame(piece_obj, grid)
     out, report, iso = expected_replacement(ggg, grid, index, piece_positions, piece_edges)
     occurrences, chosen, _ = analysis.isogroup_arrays(grid, index)
     squares = occurrences[chosen]
     assert len(squares) == 4 and report["replaced"] == 4  # the four corner blocks of the grid
+    owner = np.full(len(positions), -1)
+    for c, square in enumerate(squares):
+        owner[square] = c
+    own = (owner[edges[:, 0]] >= 0) & (owner[edges[:, 0]] == owner[edges[:, 1]])
+    assert own.sum() == 16
+    # The junctions: the squares' corners that a street from outside the square reaches (the
+    # footway at the grid's corner (0, 0) too); the grid's other three corners are not.
+    junction = np.zeros(len(positions), dtype=bool)
+    junction[edges[~own].ravel()] = True
+    junction &= owner >= 0
+    corners = [by_cell[ij] for ij in ((4, 0), (0, 4), (4, 4))]
+    assert sorted(np.flatnonzero((owner >= 0) & ~junction).tolist()) == sorted(corners)
+    kept = np.flatnonzero((owner < 0) | junction)
+    assert len(kept) == len(positions) - 3
     # What only Blender holds follows the vertices that stay: a point attribute, the selection
-    # (the east spur's end and the middle of the grid).
+    # (the east spur's end, the middle of the grid, a junction and a corner that goes).
     elevation = 0.5 * np.arange(len(positions), dtype=np.float64)
     mesh_build.set_attribute(grid.data, "elevation", 'FLOAT', 'POINT', elevation)
-    cells = grid_cells(grid)
     picked = [max((v for v in range(len(positions)) if v not in cells), key=lambda v: positions[v, 0]),
-              next(v for v, ij in cells.items() if ij == (2, 2))]
+              by_cell[(2, 2)], by_cell[(1, 1)], by_cell[(4, 4)]]
     select_only(grid, picked)
 
     assert bpy.ops.roads.replace_isogroup() == {'FINISHED'}
@@ -284,78 +331,85 @@ def test_replace_the_squares_by_a_ring(grid, ggg, reports, op_results):
     kind, message = reports()[-1]
     assert kind == 'INFO'
     assert counts_reported(message) == (report["replaced"], 4, report["removed_vertices"], report["added_vertices"],
-                                        report["reconnected_streets"])
-    assert (report["removed_vertices"], report["added_vertices"]) == (16, 4 * RING)
+                                        report["joined_streets"], report["intersections"])
+    # 3 corners removed; 8 vertices per ring; 13 junctions (4 of the south-west square, 3 of
+    # each other one) joined; no new street crosses another.
+    assert (report["removed_vertices"], report["added_vertices"]) == (3, 4 * RING)
+    assert (report["joined_streets"], report["intersections"]) == (13, 0)
+    assert "intersection" not in message
 
     # Exactly what ggg.replace_isogroup gives, in place (same object and mesh datablock).
     assert grid.data == mesh and roads.surface_object(grid) == surface_obj
     new_positions, new_edges = arrays(grid)
     assert (len(new_positions), len(new_edges)) == (out.vertex_count, out.edge_count)
-    assert len(new_positions) == len(positions) - 16 + 4 * RING
+    assert len(new_positions) == len(kept) + 4 * RING
+    assert len(new_edges) == len(edges) - 16 + 4 * RING + 13
     np.testing.assert_allclose(new_positions, out.positions, atol=1e-3)
     np.testing.assert_array_equal(new_edges, out.edges)
 
-    # No vertex of a replaced square is left: the others come first, in their order, and no
-    # vertex is where a replaced one was.
-    removed = np.zeros(len(positions), dtype=bool)
-    removed[squares.ravel()] = True
-    kept = np.flatnonzero(~removed)
+    # The kept vertices come first, in their order, where they were (the junctions too); no
+    # vertex is where a removed corner was.
     np.testing.assert_allclose(new_positions[:len(kept)], positions[kept], atol=1e-4)
-    distance = np.linalg.norm(new_positions[:, None, :] - positions[None, removed, :], axis=2)
+    distance = np.linalg.norm(new_positions[:, None, :] - positions[None, corners, :], axis=2)
     assert distance.min() > 1.0
     carried = mesh_build.read_attribute(grid.data, "elevation", np.float64)
     np.testing.assert_allclose(carried[:len(kept)], elevation[kept])
     assert not carried[len(kept):].any()
-    selected = np.zeros(len(new_positions), dtype=bool)
-    grid.data.vertices.foreach_get("select", selected)
-    assert set(np.flatnonzero(selected).tolist()) == {int(np.searchsorted(kept, v)) for v in picked}
-
-    # Every new vertex lies on the circle through the corners of the square it replaced
-    # (the ring is centred on the square and scaled to its RMS radius, about 100 m / sqrt 2:
-    # the projection makes the blocks a little uneven), 8 per square.
-    centres = positions[squares].mean(axis=1)
-    corners = np.linalg.norm(positions[squares] - centres[:, None, :], axis=2)
-    added = new_positions[len(kept):]
-    to_centres = np.linalg.norm(added[:, None, :] - centres[None, :, :], axis=2)
-    home = to_centres.argmin(axis=1)
-    assert np.bincount(home, minlength=4).tolist() == [RING] * 4
-    assert np.all(np.abs(to_centres.min(axis=1) - np.sqrt((corners ** 2).mean(axis=1))[home]) < 0.5)
-    assert np.all(to_centres.min(axis=1) <= corners.max(axis=1)[home] + 0.5)
-    assert corners.max() == pytest.approx(SPACING / math.sqrt(2.0), abs=1.0)
-    # So none is further out of the squares' bounding box than a circle sticks out of its square.
-    lo, hi = positions[squares.ravel()].min(axis=0), positions[squares.ravel()].max(axis=0)
-    margin = SPACING / math.sqrt(2.0) - SPACING / 2 + 1.0
-    assert np.all(added >= lo - margin) and np.all(added <= hi + margin)
-
-    # Every street that left a square now ends on a vertex of that square's ring: the one
-    # nearest to where it ended, and it keeps its road class (the footway too).
     new_id = np.full(len(positions), -1)
     new_id[kept] = np.arange(len(kept))
+    selected = np.zeros(len(new_positions), dtype=bool)
+    grid.data.vertices.foreach_get("select", selected)
+    assert set(np.flatnonzero(selected).tolist()) == {int(new_id[v]) for v in picked[:3]}
+    # The streets outside the squares stay, in their order, with their classes (the footway
+    # at the junction (0, 0) and the spur too), before everything the replacement made.
+    outside = np.flatnonzero(~own)
+    np.testing.assert_array_equal(new_edges[:len(outside)], new_id[edges[outside]])
     new_highway = mesh_build.read_attribute(grid.data, "highway", np.int64)
-    joined = {frozenset(e): i for i, e in enumerate(new_edges.tolist())}
-    owner = np.full(len(positions), -1)
+    np.testing.assert_array_equal(new_highway[:len(outside)], old_highway[outside])
+    assert classes.index("footway") in new_highway[:len(outside)].tolist()
+
+    # Each ring lies inside the square it replaced: centred on it, every vertex inside the
+    # square shrunk to 0.8 about its centre and one of them on that boundary (the squares are
+    # 100 m wide; the projection makes them a little uneven).
+    added = np.asarray(out.positions)[len(kept):]
+    centres = positions[squares].mean(axis=1)
+    home = np.linalg.norm(added[:, None, :] - centres[None, :, :], axis=2).argmin(axis=1)
+    assert np.bincount(home, minlength=4).tolist() == [RING] * 4
     for c, square in enumerate(squares):
-        owner[square] = c
-    leaving = [(e, a, b) for e, (a, b) in enumerate(edges.tolist()) if owner[a] != owner[b]]
-    assert len(leaving) == report["reconnected_streets"] == 17
-    classes = list(ggg.highway_classes())
-    for e, a, b in leaving:
-        x, y = (a, b) if owner[a] >= 0 else (b, a)
+        corner = positions[square]
+        centre = centres[c]
+        ring = added[home == c]
+        np.testing.assert_allclose(ring.mean(axis=0), area_centroid(corner), atol=1e-3)
+        np.testing.assert_allclose(area_centroid(corner), centre, atol=0.05)  # (near a parallelogram)
+        ratio = hull_ratio(ring, corner)
+        assert ratio.max() == pytest.approx(0.8, abs=1e-4) and np.all(ratio <= 0.8 + 1e-4)
+        # So every ring vertex is at most 0.8 x 50 m from the centre along each street.
+        assert np.all(np.abs(ring - centre) <= 0.8 * SPACING / 2 + 0.5)
+
+    # Each junction is joined by one new street to the ring vertex nearest to it, with the
+    # class of the square's most important street there; the outside streets are not touched.
+    # (The ring is turned by half a step: two of its vertices are about as near to a corner;
+    # the one joined is the nearer, to within the mesh's precision.)
+    made = set()
+    for x in np.flatnonzero(junction):
         ring_ids = len(kept) + np.flatnonzero(home == owner[x])
-        end = ring_ids[np.argmin(np.linalg.norm(new_positions[ring_ids] - positions[x], axis=1))]
-        if owner[y] < 0:
-            other = new_id[y]
-        else:
-            other_ring = len(kept) + np.flatnonzero(home == owner[y])
-            other = other_ring[np.argmin(np.linalg.norm(new_positions[other_ring] - positions[y], axis=1))]
-        key = frozenset((int(end), int(other)))
-        assert key in joined, (positions[x], positions[y])
-        assert new_highway[joined[key]] == old_highway[e]
-    assert classes.index("footway") in {int(old_highway[e]) for e, _a, _b in leaving}  # the spur at a corner
-    # The rings' own streets: 8 per square, residential (the piece has no classes).
+        to_ring = [(e, b if a == new_id[x] else a) for e, (a, b) in enumerate(new_edges.tolist())
+                   if new_id[x] in (a, b) and (a >= len(kept) or b >= len(kept))]
+        assert len(to_ring) == 1, cells[x]
+        e, end = to_ring[0]
+        assert end in ring_ids, cells[x]
+        reach = np.linalg.norm(new_positions[ring_ids] - positions[x], axis=1)
+        assert np.linalg.norm(new_positions[end] - positions[x]) <= reach.min() + 1e-3, cells[x]
+        at_secondary = cells[x] in ((1, 0), (1, 1))
+        assert new_highway[e] == classes.index("secondary" if at_secondary else "residential"), cells[x]
+        made.add(e)
+    assert len(made) == report["joined_streets"] == 13
+    # The rings' own streets: 8 per square, residential (the piece has no classes); nothing
+    # else was made.
     ring_streets = [i for i, (a, b) in enumerate(new_edges.tolist()) if a >= len(kept) and b >= len(kept)]
     assert len(ring_streets) == 4 * RING
     assert set(new_highway[ring_streets].tolist()) == {classes.index("residential")}
+    assert len(outside) + len(ring_streets) + len(made) == len(new_edges)
 
     # The analysis no longer fits: cleared, with its colours; the surface has every street.
     result = grid.road_analysis
@@ -383,7 +437,9 @@ def test_replace_in_edit_mode_with_a_selected_ring(grid, ggg, reports):
     bpy.ops.object.mode_set(mode='OBJECT')
     new_positions, new_edges = arrays(grid)
     assert (len(new_positions), len(new_edges)) == (out.vertex_count, out.edge_count)
-    assert report["added_vertices"] == 4 * 8
+    # 3 corners of the grid removed, 8 vertices per square, its 13 junctions joined.
+    assert (report["removed_vertices"], report["added_vertices"], report["joined_streets"]) == (3, 4 * 8, 13)
+    assert report["intersections"] == 0
     np.testing.assert_allclose(new_positions, out.positions, atol=1e-3)
     np.testing.assert_array_equal(new_edges, out.edges)
     assert not grid.road_analysis.has_result()
@@ -425,7 +481,7 @@ def test_the_analysis_is_run_again_when_its_isogroups_are_gone(grid, ggg, monkey
 def test_moved_vertices(grid, ggg):
     """A vertex moved a little: the isogroups kept from Analyze have the old transforms, so
     the analysis runs again; it finds the same squares, and the ring of the moved square is
-    centred on the square as it is now."""
+    centred on the square as it is now (on its area's centroid) and inside it."""
     index = analysed(grid)
     assert bpy.ops.roads.store_replacement(object=ring_object().name) == {'FINISHED'}
     occurrences, chosen, _ = analysis.isogroup_arrays(grid, index)
@@ -441,9 +497,16 @@ def test_moved_vertices(grid, ggg):
     assert bpy.ops.roads.replace_isogroup() == {'FINISHED'}
     new_positions = arrays(grid)[0]
     np.testing.assert_allclose(new_positions, out.positions, atol=1e-3)
-    added = new_positions[len(positions) - 16:]
+    assert report["removed_vertices"] == 3
+    added = np.asarray(out.positions)[len(positions) - 3:]
+    assert len(added) == report["added_vertices"] == 4 * RING
     ring = added[np.argsort(np.linalg.norm(added - centre, axis=1))[:RING]]
-    assert np.linalg.norm(ring.mean(axis=0) - centre) < 0.05
+    # (The centroid of the area, not the mean of the corners, which is 0.5 m east.)
+    middle = area_centroid(positions[square])
+    assert np.linalg.norm(middle - centre) > 0.1
+    assert np.linalg.norm(ring.mean(axis=0) - middle) < 1e-3
+    ratio = hull_ratio(ring, positions[square])
+    assert ratio.max() == pytest.approx(0.8, abs=1e-4)
 
 
 def test_vertices_moved_far_are_refused(grid, ggg, op_results):
@@ -593,8 +656,14 @@ def test_sample_town_blocks_become_plazas(town, ggg, reports):
     out, report = ggg.replace_isogroup(graph, direct, positions, edges)
     before = len(town.data.vertices)
     assert bpy.ops.roads.replace_isogroup() == {'FINISHED'}
-    assert counts_reported(reports()[-1][1]) == (count, order, count * order, count * 13, report["reconnected_streets"])
-    assert len(town.data.vertices) == out.vertex_count == before - count * order + count * 13
+    assert counts_reported(reports()[-1][1]) == (count, order, report["removed_vertices"], report["added_vertices"],
+                                                 report["joined_streets"], report["intersections"])
+    # The junctions stay (most of the blocks' corners), each joined to its plaza by one street;
+    # 13 vertices per plaza and one per intersection made.
+    assert 0 < report["removed_vertices"] < count * order
+    assert report["joined_streets"] == count * order - report["removed_vertices"]
+    assert report["added_vertices"] == count * 13 + report["intersections"]
+    assert len(town.data.vertices) == out.vertex_count == before - report["removed_vertices"] + report["added_vertices"]
     assert len(town.data.edges) == out.edge_count
     np.testing.assert_allclose(arrays(town)[0], out.positions, atol=1e-3)
     np.testing.assert_array_equal(arrays(town)[1], out.edges)
@@ -611,7 +680,8 @@ def test_undo_of_replace_restores_the_mesh(ggg, tmp_path):
     before, replaced = result["before"], result["imported"]
     grid_before, grid_after = before["meshes held"]["grid"], replaced["meshes held"]["grid"]
     assert grid_before[:2] == [SIZE * SIZE + 2, 2 * SIZE * (SIZE - 1) + 2]
-    assert grid_after[0] == SIZE * SIZE + 2 - 16 + 4 * RING and grid_after[1] > grid_before[1]
+    # The grid's 3 corners that no other street reaches removed, 8 vertices per ring.
+    assert grid_after[0] == SIZE * SIZE + 2 - 3 + 4 * RING and grid_after[1] > grid_before[1]
     assert before["analysis"]["grid"][0] and before["analysis"]["grid"][1] > 0
     assert replaced["analysis"]["grid"] == ["", 0, -1]
     assert "road_pattern" in grid_before[3] and "road_pattern" not in grid_after[3]

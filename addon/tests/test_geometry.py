@@ -75,3 +75,20 @@ def test_kept_edges_and_carried():
     kept = topology.kept_edges(old_edges, [2, 1, -1], [[1, 0], [1, 2]])
     assert kept.tolist() == [1, -1]
     assert topology.carried(np.array([5.0, 7.0]), np.array([1, -1, 0])).tolist() == [7.0, 0.0, 5.0]
+
+
+def test_replaced_vertices():
+    """A replacement removes the vertices of its occurrences that no street from outside
+    their own occurrence reaches; the junctions stay."""
+    # Two squares side by side (0 1 2 / 3 4 5) and a spur 2-6; the left square replaced:
+    # 1 and 4 are reached from outside it (1-2, 4-5), 0 and 3 are not.
+    edges = [[0, 1], [1, 2], [3, 4], [4, 5], [0, 3], [1, 4], [2, 5], [2, 6]]
+    removed = topology.replaced_vertices(7, edges, [[0, 1, 4, 3]])
+    assert removed.dtype == bool and np.flatnonzero(removed).tolist() == [0, 3]
+    # A street between two replaced occurrences (1-2 of the path 0-1-2-3) keeps both its ends.
+    path = [[0, 1], [1, 2], [2, 3]]
+    assert np.flatnonzero(topology.replaced_vertices(4, path, [[0, 1], [3, 2]])).tolist() == [0, 3]
+    # An occurrence that no street leaves goes whole; no occurrence removes nothing.
+    ring = [[0, 1], [1, 2], [2, 3], [3, 0]]
+    assert topology.replaced_vertices(4, ring, [[0, 1, 2, 3]]).all()
+    assert not topology.replaced_vertices(4, ring, np.zeros((0, 4), dtype=np.int64)).any()

@@ -9,6 +9,7 @@ import pytest
 from road_grammar.core.columns import GraphColumns, joined
 from road_grammar.core.growth import fitted, grow_into_region, placed_rules
 from road_grammar.core.jobs import StepsJob
+from road_grammar.core.topology import replaced_vertices
 
 REPO = Path(__file__).resolve().parent.parent.parent
 
@@ -153,3 +154,23 @@ def test_grow_into_region_cancelled(ggg):
     job.start()
     job.join()
     assert isinstance(job.error, ggg.Cancelled) and job.result is None
+
+
+def test_replaced_vertices_are_those_the_library_removes(ggg):
+    """Replace maps the vertices of ggg.replace_isogroup's result back to the graph's with
+    core.topology.replaced_vertices: the kept ones come first, in their order, at their
+    places; the occurrences' junctions among them."""
+    path = REPO / "samples" / "sample_city.osm"
+    if not path.is_file():
+        pytest.skip("{} is absent".format(path))
+    graph = ggg.read_graph(str(path))
+    best = ggg.analyze(graph).isogroups[0]
+    t = np.linspace(0.0, 2.0 * np.pi, 12, endpoint=False)
+    ring = np.column_stack((np.cos(t), np.sin(t)))
+    out, report = ggg.replace_isogroup(graph, best, ring, [(k, (k + 1) % 12) for k in range(12)])
+    chosen = np.asarray(best.occurrences)[best.non_overlapping]
+    removed = replaced_vertices(graph.vertex_count, graph.edges, chosen)
+    kept = np.flatnonzero(~removed)
+    assert 0 < removed.sum() == report["removed_vertices"] < chosen.size  # some junctions stay
+    assert out.vertex_count == len(kept) + report["added_vertices"]
+    np.testing.assert_array_equal(np.asarray(out.positions)[:len(kept)], np.asarray(graph.positions)[kept])

@@ -7,7 +7,8 @@ place of a pattern's occurrences, as it is stored (JSON)
      "highway": ["residential", ...]}         # the road class of each edge (ggg.highway_classes())
 
 The piece is drawn at any size and place: ggg.replace_isogroup centres it on the pattern and
-scales it to the pattern's size, keeping its orientation in the graph's frame.
+scales it to the pattern's size, keeping its orientation in the graph's frame, then fits each
+copy inside the occurrence it replaces.
 """
 
 import json

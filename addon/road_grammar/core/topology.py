@@ -1,5 +1,6 @@
 """Vertex ids and edges of a road graph: checksums of what an analysis refers to, seeds,
-the mesh edge of a vertex pair, and which edges a derivation kept."""
+the mesh edge of a vertex pair, which edges a derivation kept, and which vertices a
+replacement removes."""
 
 import zlib
 
@@ -109,6 +110,23 @@ def kept_edges(old_edges, source_vertex, new_edges):
     hit = both & (sorted_keys[where] == keys)
     result[hit] = order[where[hit]]
     return result
+
+
+def replaced_vertices(vertex_count, edges, occurrences):
+    """Which vertices ggg.replace_isogroup removes (bool, one per vertex) when it replaces
+    ``occurrences`` ((n, k) vertex ids, pairwise without a shared vertex): the vertices of the
+    occurrences that no street from outside their own occurrence reaches. A junction (a vertex
+    of an occurrence with a street to a vertex that is not in the same occurrence) stays."""
+    edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    occurrences = np.asarray(occurrences, dtype=np.int64)
+    owner = np.full(int(vertex_count), -1, dtype=np.int64)
+    for c, occurrence in enumerate(occurrences):
+        owner[occurrence] = c
+    a, b = owner[edges[:, 0]], owner[edges[:, 1]]
+    own = (a >= 0) & (a == b)
+    junction = np.zeros(int(vertex_count), dtype=bool)
+    junction[edges[~own].ravel()] = True
+    return (owner >= 0) & ~junction
 
 
 def carried(values, source):

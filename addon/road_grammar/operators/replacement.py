@@ -21,6 +21,7 @@ from bpy.types import Operator
 from ..core.analysis import StaleAnalysis
 from ..core.piece import PieceError
 from ..core.text import plural
+from ..core.topology import replaced_vertices
 from ..data import analysis, graph_edit, replacement, roads
 from ..display import patterns, road_objects
 from .common import analyzer_or_report, class_widths, graph_or_report, isogroup_index_or_report
@@ -69,7 +70,7 @@ class ROADS_OT_store_replacement(Operator):
 
 
 class ROADS_OT_replace_isogroup(Operator):
-    """Replace every non-overlapping occurrence of the isogroup chosen in the list by the stored piece, turned and scaled as each occurrence, and join the streets around to it"""
+    """Replace every non-overlapping occurrence of the isogroup chosen in the list by the stored piece, fitted inside each occurrence, and join each piece to the junctions where the streets around meet its occurrence"""
 
     bl_idname = "roads.replace_isogroup"
     bl_label = "Replace"
@@ -135,9 +136,10 @@ class ROADS_OT_replace_isogroup(Operator):
                 except ggg.Error as ex:
                     self.report({'ERROR'}, "Cannot replace the pattern in {}: {}".format(obj.name, ex))
                     return {'CANCELLED'}
-                # The vertices not replaced come first, in their order; then the pieces.
-                removed = np.zeros(len(old.positions), dtype=bool)
-                removed[np.asarray(iso.occurrences, dtype=np.int64)[chosen].ravel()] = True
+                # The vertices not removed (those of no occurrence, and the occurrences'
+                # junctions) come first, in their order; then the pieces and intersections.
+                removed = replaced_vertices(len(old.positions), old.edges,
+                                            np.asarray(iso.occurrences, dtype=np.int64)[chosen])
                 kept = np.flatnonzero(~removed)
                 if out.vertex_count != len(kept) + report["added_vertices"]:
                     self.report({'ERROR'}, "Cannot replace the pattern in {}: the library returned {:,} vertices, "
@@ -155,11 +157,13 @@ class ROADS_OT_replace_isogroup(Operator):
                 analysis.clear(obj, forget_isogroups=False)
                 progress.step(1.0, "done")
 
-        self.report({'INFO'}, "Replaced {} of the {}-vertex pattern in {}: {} removed, {:,} added, {} reconnected; "
+        crossings = report["intersections"]
+        self.report({'INFO'}, "Replaced {} of the {}-vertex pattern in {}: {} removed, {:,} added, {} joined{}; "
                     "the analysis is cleared (analyse again)".format(
                         plural(report["replaced"], "occurrence"), order, obj.name,
                         plural(report["removed_vertices"], "vertex"), report["added_vertices"],
-                        plural(report["reconnected_streets"], "street")))
+                        plural(report["joined_streets"], "street"),
+                        ", {} made".format(plural(crossings, "intersection")) if crossings else ""))
         return {'FINISHED'}
 
 
