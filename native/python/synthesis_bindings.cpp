@@ -285,10 +285,12 @@ void bind_synthesis(py::module_& m) {
         py::arg("graph"), py::arg("isogroup"), py::arg("positions"), py::arg("edges"), py::arg("edge_highway") = py::none(),
         py::arg("occurrences") = py::none(), py::arg("fit") = true,
         "Terminal replacement (paper Fig. 1): the isogroup's occurrences (default: its non-overlapping ones) replaced by the\n"
-        "piece of network (positions (N,2), edges (M,2), optional road classes (M,)), scaled and turned by each occurrence's\n"
-        "transform and joined to the streets around by the relaxed embedding. fit=True centres and scales the piece to the\n"
-        "pattern (draw it anywhere, at any size); fit=False takes it in the pattern's canonical coordinates.\n"
-        "Returns (Graph, report dict).");
+        "piece of network (positions (N,2), edges (M,2), optional road classes (M,)), fitted into each occurrence (its\n"
+        "transform, inside its area, clear of the streets around) and joined to the junctions the occurrence keeps (its\n"
+        "vertices where other streets meet); a new street that still crosses one makes an intersection. fit=True centres\n"
+        "and scales the piece to the pattern first (draw it anywhere, at any size); fit=False takes it in the pattern's\n"
+        "canonical coordinates. Returns (Graph, report dict: replaced, removed_vertices, added_vertices, joined_streets,\n"
+        "intersections).");
     m.def(
         "compare",
         [](const GeometricGraph& a, const GeometricGraph& b) {

@@ -26,10 +26,14 @@ constexpr double kFill = 0.8;
 
 // The frame that puts the piece into one occurrence: the occurrence's own transform, then
 // centred on the occurrence's area and scaled so that every vertex of the piece lies within
-// its convex hull, the hull shrunk to kFill. A plaza for a block stays inside the block,
-// whatever size it was drawn at and however the block differs from the pattern's mean shape.
-// An occurrence with no area (a path, a fork) keeps its transform.
-Similarity2 fitted_frame(const Similarity2& transform, const std::vector<Vec2>& occurrence, const std::vector<Vec2>& piece) {
+// its convex hull, the hull shrunk to kFill, and smaller while the piece would cross a street
+// that stays (`crosses`). A plaza for a block stays inside the block, whatever size it was
+// drawn at and however the block differs from the pattern's mean shape. An occurrence with
+// no area (a path, a fork) keeps its transform.
+template <class Crosses>
+Similarity2 fitted_frame(const Similarity2& transform, const std::vector<Vec2>& occurrence, const ReplacementGraph& drawn,
+                         Crosses&& crosses) {
+    const std::vector<Vec2>& piece = drawn.positions;
     namespace bg = spatial::bg;
     bg::model::multi_point<spatial::Point> points;
     for (const Vec2& p : occurrence) points.push_back(spatial::point(p));
@@ -61,7 +65,18 @@ Similarity2 fitted_frame(const Similarity2& transform, const std::vector<Vec2>& 
         }
     }
     if (!std::isfinite(largest) || largest <= 0) return transform;
-    const double s = kFill * largest;
+    // The hull of an occurrence that is not one block (two blocks and a street) reaches over
+    // streets around it: smaller, until the piece crosses none of them.
+    double s = kFill * largest;
+    for (int tries = 0; tries < 12; ++tries, s *= 0.8) {
+        const Similarity2 frame = Similarity2{s, 0.0, centre - s * mean} * transform;
+        bool crossing = false;
+        for (const auto& [a, b] : drawn.edges) {
+            crossing = crossing || crosses(frame.apply(piece[static_cast<std::size_t>(a)]), frame.apply(piece[static_cast<std::size_t>(b)]));
+        }
+        if (!crossing) return frame;
+    }
+    s = kFill * largest;
     return Similarity2{s, 0.0, centre - s * mean} * transform;
 }
 
@@ -218,13 +233,26 @@ GeometricGraph replace_occurrences(const GeometricGraph& g, const Isogroup& grou
         host.add_edge(new_id[static_cast<std::size_t>(g.edges[e][0])], new_id[static_cast<std::size_t>(g.edges[e][1])], g.edge_attributes(id), line);
     }
     const std::size_t kept_vertices = host.vertex_count(), kept_edges = host.edge_count();
+    // Whether a segment crosses a street that stays (touching one at a junction is no crossing).
+    std::vector<spatial::EdgeEntry> entries;
+    for (std::size_t e = 0; e < kept_edges; ++e) entries.emplace_back(spatial::edge_box(host, static_cast<EdgeId>(e)), static_cast<EdgeId>(e));
+    const spatial::RTree<spatial::EdgeEntry> streets(entries.begin(), entries.end());
+    auto crosses_a_street = [&](const Vec2& p, const Vec2& q) {
+        for (auto it = streets.qbegin(spatial::bgi::intersects(spatial::around(p, q))); it != streets.qend(); ++it) {
+            const Vec2* line = host.geometry_begin(it->second);
+            for (std::size_t k = 0; k + 1 < host.geometry_size(it->second); ++k) {
+                if (segments_meet(p, q, line[k], line[k + 1])) return true;
+            }
+        }
+        return false;
+    };
     host.instances.assign(host.vertex_count(), -1);
     double smallest = std::numeric_limits<double>::infinity();
     std::size_t joined = 0;
     for (std::size_t c = 0; c < chosen.size(); ++c) {
         std::vector<Vec2> occurrence;
         for (VertexId v : group.occurrence(chosen[c])) occurrence.push_back(g.positions[static_cast<std::size_t>(v)]);
-        const Similarity2 frame = fitted_frame(group.transforms[chosen[c]], occurrence, r.positions);
+        const Similarity2 frame = fitted_frame(group.transforms[chosen[c]], occurrence, r, crosses_a_street);
         host.add_vertex(frame.t);
         host.symbols.back() = 1;
         host.frames.back() = frame;

@@ -1,12 +1,16 @@
 #pragma once
 // Terminal replacement (paper Fig. 1): every chosen occurrence of an isogroup is replaced by
-// another piece of street network (a round plaza for the blocks of Barcelona), scaled and
-// turned by the occurrence's own transform, and joined to the streets around it.
+// another piece of street network (a round plaza for the blocks of Barcelona), fitted into
+// the occurrence (its own frame, inside its area, clear of the streets around) and joined to
+// the junctions around it.
 //
-// It is a grammar rewriting, not a second mechanism: each occurrence becomes a nonterminal
-// whose rule is the replacement, with an embedding point for every street that left the
-// occurrence, aimed at the replacement vertex nearest to where that street's end was
-// (relaxed embedding, paper 3.3); one derivation step (rewriting.hpp) then places them all.
+// An occurrence gives up its own streets and the vertices no other street reaches; a vertex
+// where streets of the surroundings meet stays where it is, so the streets around keep their
+// course. It is a grammar rewriting, not a second mechanism: each occurrence becomes a
+// nonterminal whose rule is the piece, with an embedding point for every junction it kept,
+// aimed from the piece's vertex nearest to it (relaxed embedding, paper 3.3); one derivation
+// step (rewriting.hpp) places them all. Where a new street still crosses one, both get an
+// intersection there.
 #include <array>
 #include <cstdint>
 #include <span>
