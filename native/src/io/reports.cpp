@@ -77,6 +77,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"traced_streets", r.traced_streets},
         {"traced_joined", r.traced_joined},
         {"traced_t_junctions", r.traced_t_junctions},
+        {"traced_across", r.traced_across},
         {"added_vertices", r.added_vertices},
         {"added_edges", r.added_edges},
         {"border_connections", r.border_connections},

@@ -38,6 +38,8 @@ TracingReport Tracer::run() {
     if (main_examples_.empty() && other_examples_.empty()) return report_;
     fixed_edges_ = g_.edge_count();
     index();
+    across_.assign(base_vertices_, 0);
+    join_across();
     seed();
     std::size_t steps = 0;
     const std::size_t max_steps = 50 * s_.max_vertices + 1000;

@@ -15,7 +15,7 @@ void Tracer::seed() {
     std::vector<std::pair<double, Street>> seeds;
     for (std::size_t v = 0; v < base_vertices_; ++v) {
         const auto id = static_cast<VertexId>(v);
-        if (degree(id) >= 4) continue;
+        if (degree(id) >= 4 || across_[v]) continue;
         const Vec2 p = g_.positions[v];
         const bool in = inside(region_, p);
         if (!in && distance_to_ring(region_, p) > reach) continue;

@@ -178,6 +178,24 @@ private:
     void add_street(VertexId v, VertexId w, const std::vector<Vec2>& line, HighwayClass highway);
     VertexId split(EdgeId e, const Vec2& where);
 
+    // ---- streets joined across (tracing_across.cpp) -----------------------------------------
+
+    // Loose ends of the base on opposite sides of the region that point at each other (within
+    // a few degrees) are joined by a straight street, which crosses those joined before it in
+    // new junctions. Such ends are not seeds any more (across_).
+    void join_across();
+
+    // A street joined across: from one loose end of the base to the other.
+    struct Across {
+        VertexId from = -1, to = -1;
+        HighwayClass highway = HighwayClass::residential;
+    };
+
+    // Junctions along a street joined across, spaced as the city's streets run from junction
+    // to junction, each opening the side streets of one of the city's junctions (traced then
+    // as any other).
+    void open_junctions(const Across& street);
+
     // ---- the seeds (tracing_seeds.cpp) -----------------------------------------------------
 
     // The base's streets that reach the region: a dead end or a junction with an open side
@@ -263,6 +281,7 @@ private:
     // No new junction within this many typical streets of another: the spacing of junctions.
     const double crowd_ = 0.5;
     const double grid_tolerance_ = M_PI / 4;
+    std::vector<char> across_; // per base vertex: joined across the region (join_across)
     std::vector<std::vector<EdgeId>> adjacency_;
     spatial::RTree<spatial::VertexEntry> vertices_;
     spatial::RTree<spatial::EdgeEntry> segments_;

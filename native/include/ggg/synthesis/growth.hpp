@@ -143,6 +143,7 @@ struct GrowReport {
     std::size_t traced_streets = 0;     // streets added by tracing
     std::size_t traced_joined = 0;      // traced streets that ended at a junction already there
     std::size_t traced_t_junctions = 0; // traced streets that ended on a street, split there
+    std::size_t traced_across = 0;      // streets of the base joined straight across to one facing them
     std::size_t added_vertices = 0;
     std::size_t added_edges = 0;
     std::size_t border_connections = 0; // placements that started from a base street

@@ -1,0 +1,195 @@
+// The first stage of tracing, before any street is traced on its own: streets of the base that
+// reach the region from opposite sides, each pointing at the other, are one street the region
+// cut, and are joined straight across it (tracing_stages.hpp). A grid goes on as a grid through
+// the region, its streets meeting in crossings, and two cities stitched across a gap are joined
+// street to street where their streets line up.
+#include "tracing_stages.hpp"
+
+#include <algorithm>
+
+#include "ggg/graph/plane_geometry.hpp"
+
+namespace ggg::growth_detail::tracing {
+
+using namespace spatial; // bg, bgi, point, Box
+
+namespace {
+
+// How far a street's heading may miss the street across (radians), and how far aside it may
+// end (as a share of the way across): a street that was cut goes on as it ran.
+constexpr double kAcrossTurn = 6.0 * M_PI / 180.0;
+constexpr double kAcrossAside = 0.08;
+
+} // namespace
+
+void Tracer::join_across() {
+    const double reach = s_.border_m + std::max(3.0 * typical_, long_);
+    // The loose ends of the base that point into the region, with their heading.
+    struct End {
+        VertexId v;
+        Vec2 ahead;
+        HighwayClass highway;
+    };
+    std::vector<End> ends;
+    for (std::size_t v = 0; v < base_vertices_; ++v) {
+        const auto id = static_cast<VertexId>(v);
+        if (degree(id) != 1) continue;
+        const EdgeId e = adjacency_[v][0];
+        if (!traced_class(g_.edge_highway[static_cast<std::size_t>(e)])) continue;
+        const Vec2 p = g_.positions[v];
+        const Vec2 back = leaving(g_, e, id) - p;
+        if (back.norm() < 1e-9) continue;
+        const Vec2 ahead = -back.normalized();
+        // At the region's border (a street the region cut), not one that ends further out.
+        const double enters = entry_distance(p, ahead, reach);
+        if (enters < 0 || enters > 0.3 * typical_) continue;
+        ends.push_back({id, ahead, g_.edge_highway[static_cast<std::size_t>(e)]});
+    }
+    // Pairs that face each other, the best aligned first.
+    std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+    for (std::size_t i = 0; i < ends.size(); ++i) {
+        for (std::size_t j = i + 1; j < ends.size(); ++j) {
+            const Vec2 a = g_.positions[static_cast<std::size_t>(ends[i].v)], b = g_.positions[static_cast<std::size_t>(ends[j].v)];
+            const Vec2 d = b - a;
+            const double length = d.norm();
+            if (length < typical_) continue;
+            const Vec2 u = d / length;
+            const double turn_a = std::acos(std::clamp(u.dot(ends[i].ahead), -1.0, 1.0));
+            const double turn_b = std::acos(std::clamp(-u.dot(ends[j].ahead), -1.0, 1.0));
+            const double aside = std::max(std::abs(cross(ends[i].ahead, d)), std::abs(cross(ends[j].ahead, d)));
+            if (turn_a > kAcrossTurn || turn_b > kAcrossTurn || aside > kAcrossAside * length) continue;
+            pairs.emplace_back(std::max(turn_a, turn_b), i, j);
+        }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    std::vector<char> used(ends.size(), 0);
+    const double spacing = 0.3 * typical_;
+    std::vector<Across> laid;
+    for (const auto& [turn, i, j] : pairs) {
+        if (used[i] || used[j] || g_.vertex_count() + 8 >= s_.max_vertices) continue;
+        const VertexId from = ends[i].v, to = ends[j].v;
+        const Vec2 a = g_.positions[static_cast<std::size_t>(from)], b = g_.positions[static_cast<std::size_t>(to)];
+        {
+            // Inside the region all the way, but for its ends.
+            const double length = (b - a).norm();
+            const Vec2 u = (b - a) / length;
+            bool out = false;
+            for (double t = spacing; t < length - spacing && !out; t += std::max(spacing, length / 64)) out = !inside(region_, a + t * u);
+            if (out) continue;
+        }
+        // What it crosses: only streets joined across before it (the base's are never split),
+        // each at an angle a street may meet another at, with room for the junctions.
+        const Vec2 d = b - a;
+        const double length = d.norm();
+        std::vector<std::pair<double, EdgeId>> hits;
+        bool fits = true;
+        Box box(point(a), point(a));
+        bg::expand(box, point(b));
+        bg::expand(box, point(a - Vec2(spacing, spacing)));
+        bg::expand(box, point(b + Vec2(spacing, spacing)));
+        for (auto it = segments_.qbegin(bgi::intersects(box)); fits && it != segments_.qend(); ++it) {
+            const EdgeId e = it->second;
+            const auto [p, q] = g_.edges[static_cast<std::size_t>(e)];
+            if (p == from || p == to || q == from || q == to) continue;
+            const Vec2* pts = g_.geometry_begin(e);
+            for (std::size_t k = 0; fits && k + 1 < g_.geometry_size(e); ++k) {
+                const Vec2 r = pts[k + 1] - pts[k];
+                const auto m = segment_meeting(a, b, pts[k], pts[k + 1]);
+                const double sine = std::abs(cross(d, r)) / std::max(length * r.norm(), 1e-300);
+                if (!m) {
+                    // A street alongside, too close to have a block between them.
+                    if (sine < std::sin(min_angle_) && distance_to_segment(pts[k], a, b) < spacing &&
+                        (pts[k] - a).dot(d) > 0 && (pts[k] - b).dot(d) < 0) {
+                        fits = false;
+                    }
+                    continue;
+                }
+                const Vec2 x = a + m->first * d;
+                if (static_cast<std::size_t>(e) < fixed_edges_ || sine < std::sin(min_angle_) ||
+                    m->first * length < spacing || (1.0 - m->first) * length < spacing ||
+                    (x - g_.positions[static_cast<std::size_t>(p)]).norm() < spacing ||
+                    (x - g_.positions[static_cast<std::size_t>(q)]).norm() < spacing) {
+                    fits = false;
+                } else {
+                    hits.emplace_back(m->first, e);
+                }
+            }
+        }
+        if (!fits) continue;
+        std::sort(hits.begin(), hits.end());
+        for (std::size_t k = 1; k < hits.size(); ++k) fits = fits && (hits[k].first - hits[k - 1].first) * length >= spacing;
+        if (!fits) continue;
+        // Laid: a junction at every crossing, the street in pieces between them.
+        VertexId last = from;
+        for (const auto& [t, e] : hits) {
+            const VertexId x = split(e, a + t * d);
+            add_street(last, x, {g_.positions[static_cast<std::size_t>(last)], g_.positions[static_cast<std::size_t>(x)]}, ends[i].highway);
+            last = x;
+        }
+        add_street(last, to, {g_.positions[static_cast<std::size_t>(last)], b}, ends[i].highway);
+        used[i] = used[j] = 1;
+        across_[static_cast<std::size_t>(from)] = across_[static_cast<std::size_t>(to)] = 1;
+        laid.push_back({from, to, ends[i].highway});
+        ++report_.across;
+    }
+    for (const Across& street : laid) open_junctions(street);
+}
+
+void Tracer::open_junctions(const Across& street) {
+    const Vec2 a = g_.positions[static_cast<std::size_t>(street.from)], b = g_.positions[static_cast<std::size_t>(street.to)];
+    const double length = (b - a).norm();
+    const Vec2 u = (b - a) / length;
+    const double spacing = 0.3 * typical_;
+    // The street's vertices in order: its ends and the crossings made on it since.
+    std::vector<std::pair<double, VertexId>> chain;
+    for (auto it = vertices_.qbegin(bgi::intersects(spatial::around(a, b, 1e-6 * length))); it != vertices_.qend(); ++it) {
+        const Vec2 p = g_.positions[static_cast<std::size_t>(it->second)];
+        if (distance_to_segment(p, a, b) <= 1e-6 * length) chain.emplace_back((p - a).dot(u), it->second);
+    }
+    std::sort(chain.begin(), chain.end());
+    const bool main = main_class(street.highway);
+    for (double at = 0.0;;) {
+        // The next junction one of the city's streets on from here, where the street has room.
+        const Branch* on = nullptr;
+        const Example* example = nullptr;
+        for (int attempt = 0; attempt < 16 && !on; ++attempt) {
+            example = &example_for(main);
+            for (const Branch& br : example->branches) {
+                if (std::abs(br.turn) < min_angle_) on = &br;
+            }
+        }
+        if (!on || example->branches.size() < 2) break;
+        at += std::max(on->length, spacing);
+        if (at > length - spacing) break;
+        const auto next = std::lower_bound(chain.begin(), chain.end(), std::pair{at, VertexId{-1}});
+        if (next == chain.begin() || next == chain.end()) break;
+        const auto before = std::prev(next);
+        if (at - before->first < spacing || next->first - at < spacing) continue;
+        EdgeId piece = -1;
+        for (const EdgeId e : adjacency_[static_cast<std::size_t>(before->second)]) {
+            if (other_end(e, before->second) == next->second) piece = e;
+        }
+        if (piece < 0 || g_.vertex_count() >= s_.max_vertices) break;
+        const VertexId x = split(piece, a + at * u);
+        chain.insert(next, {at, x});
+        const bool mirror = std::bernoulli_distribution(0.5)(rng_);
+        for (const Branch& br : example->branches) {
+            if (&br == on) continue;
+            Street side;
+            side.from = x;
+            side.heading = angle_of(u) + (mirror ? -br.turn : br.turn);
+            side.length = br.length;
+            side.shape = br.shape;
+            if (mirror) {
+                for (Vec2& q : side.shape) q.y() = -q.y();
+            }
+            side.highway = br.keeps_class ? street.highway : br.highway;
+            side.main = main_class(side.highway);
+            side.generation = 1;
+            side.order = order_++;
+            queue_.push(std::move(side));
+        }
+    }
+}
+
+} // namespace ggg::growth_detail::tracing
