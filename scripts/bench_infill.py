@@ -1,8 +1,9 @@
 """The infill test of synthesis (../shared/DESIGN.md, docs/synthesis.md): cut a square hole (30 %
 of the city's extent) out of a real city, learn the grammar of what is left with default
 options, grow the hole back with ggg.grow_region (default options, several seeds), and compare
-the grown streets with the real streets of the hole. The floor is another part of the same
-city: the ring of equal area around the hole, compared with the hole the same way.
+the grown streets with the real streets of the hole. The hole is cut as a knife would: a street
+that crosses its border keeps its part outside, which ends there. The floor is another part of
+the same city: the ring of equal area around the hole, compared with the hole the same way.
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/bench_infill.py [--seeds 3] [--cities a,b] [--markdown]
 

@@ -164,13 +164,12 @@ def infill_figure(out):
         side = 0.3 * min(hi - lo)
         centre = np.median(p, axis=0)
         a, b = centre - side / 2, centre + side / 2
-        in_hole = bench_infill.inside(p, a[0], a[1], b[0], b[1])
-        rest, _ = bench_infill.subgraph(graph, ~in_hole)
+        hole = (a[0], a[1], b[0], b[1])
+        rest, _, _ = bench_infill.cut_hole(graph, hole)
         grammar, _ = ggg.learn(rest)
         corners = np.array([[a[0], a[1]], [b[0], a[1]], [b[0], b[1]], [a[0], b[1]]])
         grown, report = ggg.grow_region(rest, grammar, corners, seed=1)
-        edges = np.asarray(graph.edges)
-        real = in_hole[edges[:, 0]] | in_hole[edges[:, 1]]
+        real = bench_infill.crosses_hole(graph, hole)
         view_lo, view_hi = a - 0.25 * side, b + 0.25 * side
         offsets, points = graph.edge_geometry()
         row[0].add_collection(LineCollection([points[offsets[e]:offsets[e + 1]] for e in np.flatnonzero(~real)],
@@ -182,8 +181,8 @@ def infill_figure(out):
         for ax in row:
             ax.plot(*np.vstack([corners, corners[:1]]).T, color="#2471a3", ls="--", lw=0.8)
         frame(row[0], view_lo, view_hi, "{}: the real streets of the hole ({:,})".format(title, int(real.sum())))
-        frame(row[1], view_lo, view_hi, "grown back from the rest ({:,} streets, {:,} traced on from the border)".format(
-            grown.edge_count - rest.edge_count, report["traced_seeds"]))
+        frame(row[1], view_lo, view_hi, "grown back from the rest ({:,} streets; {:,} joined across, {:,} traced on)".format(
+            grown.edge_count - rest.edge_count, report["traced_across"], report["traced_seeds"]))
     fig.text(0.99, 0.005, CREDIT, ha="right", fontsize=7, color="#666666")
     fig.tight_layout()
     fig.savefig(out, dpi=90, metadata=PNG_METADATA)

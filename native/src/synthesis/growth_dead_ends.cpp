@@ -37,14 +37,20 @@ void Grower::close_dead_ends() {
         if (adjacency_[v].size() != 1) continue;
         const Vec2 p = g_.positions[v];
         const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
-        if (near_region(p, 0.25 * reach) && inside(region_, p + 0.5 * reach * ahead)) loose.push_back(static_cast<VertexId>(v));
+        // Into the region, not along its border.
+        const Vec2 in = p + 0.5 * reach * ahead;
+        if (near_region(p, 0.25 * reach) && inside(region_, in) && distance_to_ring(region_, in) >= 0.15 * reach) {
+            loose.push_back(static_cast<VertexId>(v));
+        }
     }
     for (std::size_t v = base_vertices_; v < g_.vertex_count(); ++v) {
         if (adjacency_[v].size() == 1) loose.push_back(static_cast<VertexId>(v));
     }
+    std::vector<char> joined_from_base(g_.vertex_count(), 0);
     for (const VertexId loose_end : loose) {
         const auto v = static_cast<std::size_t>(loose_end);
         if (adjacency_[v].size() != 1) continue;
+        const bool from_base = v < base_vertices_;
         const Vec2 p = g_.positions[v];
         const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
         VertexId best = -1;
@@ -53,6 +59,8 @@ void Grower::close_dead_ends() {
         for (auto it = vertices_.qbegin(bgi::intersects(window)); it != vertices_.qend(); ++it) {
             const VertexId w = it->second;
             if (static_cast<std::size_t>(w) == v || adjacency_[static_cast<std::size_t>(w)].size() >= 4) continue;
+            // One street of the base to a vertex: several would fan out from it.
+            if (from_base && (static_cast<std::size_t>(w) < base_vertices_ || joined_from_base[static_cast<std::size_t>(w)])) continue;
             const Vec2 d = g_.positions[static_cast<std::size_t>(w)] - p;
             const double length = d.norm();
             const auto& n = adjacency_[v];
@@ -73,6 +81,7 @@ void Grower::close_dead_ends() {
             if (join_street_ahead(static_cast<VertexId>(v), ahead, reach, attributes)) ++report_->t_junctions;
             continue;
         }
+        if (from_base) joined_from_base[static_cast<std::size_t>(best)] = 1;
         const EdgeId e = g_.add_edge(static_cast<VertexId>(v), best, attributes);
         adjacency_[v].push_back(best);
         adjacency_[static_cast<std::size_t>(best)].push_back(static_cast<VertexId>(v));

@@ -1,8 +1,9 @@
 // The first stage of tracing, before any street is traced on its own: streets of the base that
 // reach the region from opposite sides, each pointing at the other, are one street the region
-// cut, and are joined straight across it (tracing_stages.hpp). A grid goes on as a grid through
-// the region, its streets meeting in crossings, and two cities stitched across a gap are joined
-// street to street where their streets line up.
+// cut, and are joined straight across it (tracing_stages.hpp), where the streets around both
+// run on a grid. A grid goes on as a grid through the region, its streets meeting in
+// crossings, and two grid cities stitched across a gap are joined street to street where
+// their streets line up.
 #include "tracing_stages.hpp"
 
 #include <algorithm>
@@ -19,6 +20,9 @@ namespace {
 // end (as a share of the way across): a street that was cut goes on as it ran.
 constexpr double kAcrossTurn = 6.0 * M_PI / 180.0;
 constexpr double kAcrossAside = 0.08;
+// How far the line may run from the grid of the streets around its ends (their four-fold mean
+// direction, which two grids meeting or a few diagonal streets pull aside by some degrees).
+constexpr double kAcrossGrid = 15.0 * M_PI / 180.0;
 
 } // namespace
 
@@ -58,6 +62,20 @@ void Tracer::join_across() {
             const double turn_b = std::acos(std::clamp(-u.dot(ends[j].ahead), -1.0, 1.0));
             const double aside = std::max(std::abs(cross(ends[i].ahead, d)), std::abs(cross(ends[j].ahead, d)));
             if (turn_a > kAcrossTurn || turn_b > kAcrossTurn || aside > kAcrossAside * length) continue;
+            // Only where the streets around both ends run on a grid and the line keeps to it:
+            // in a winding city two streets that happen to face each other are not one.
+            bool on_grids = true;
+            for (const Vec2& end : {a, b}) {
+                const std::optional<double> grid = local_grid(end);
+                if (!grid) {
+                    on_grids = false;
+                    break;
+                }
+                const double off = wrap(angle_of(u) - *grid);
+                const double k = std::round(off / (M_PI / 2));
+                on_grids = on_grids && std::abs(off - k * (M_PI / 2)) <= kAcrossGrid;
+            }
+            if (!on_grids) continue;
             pairs.emplace_back(std::max(turn_a, turn_b), i, j);
         }
     }
@@ -75,7 +93,8 @@ void Tracer::join_across() {
             const Vec2 u = (b - a) / length;
             bool out = false;
             for (double t = spacing; t < length - spacing && !out; t += std::max(spacing, length / 64)) out = !inside(region_, a + t * u);
-            if (out) continue;
+            // Across the region, not along its border.
+            if (out || distance_to_ring(region_, 0.5 * (a + b)) < spacing) continue;
         }
         // What it crosses: only streets joined across before it (the base's are never split),
         // each at an angle a street may meet another at, with room for the junctions.
