@@ -339,6 +339,95 @@ TEST(Growth, TracedStreetsContinueTheSeveredStreetsOfAGrid) {
     }
 }
 
+// A grid with a square hole cut as a knife would: every street that crossed the hole's
+// border ends there, in a dead end pointing in. The streets facing each other across the hole
+// are joined straight across it, crossing each other in new junctions (the grid goes on), and
+// every street that reaches the hole is continued, one with no street facing it too (it is
+// joined to what grew ahead of it).
+TEST(Growth, AGridCutByAKnifeGoesOnAcrossTheHole) {
+    GridOptions grid;
+    grid.n = 16;
+    grid.jitter = 0.02;
+    const GeometricGraph city = make_grid(grid); // 0 .. 1500 m, streets every 100 m
+    const double x0 = 420, x1 = 1080;
+    auto in_hole = [&](const Vec2& p) { return p.x() > x0 && p.x() < x1 && p.y() > x0 && p.y() < x1; };
+    const std::vector<Vec2> hole{{x0, x0}, {x1, x0}, {x1, x1}, {x0, x1}};
+    GeometricGraph base;
+    std::vector<VertexId> id(city.vertex_count(), -1);
+    for (std::size_t v = 0; v < city.vertex_count(); ++v) {
+        if (!in_hole(city.positions[v])) id[v] = base.add_vertex(city.positions[v]);
+    }
+    std::vector<VertexId> cut;
+    for (const auto& [a, b] : city.edges) {
+        const VertexId ia = id[static_cast<std::size_t>(a)], ib = id[static_cast<std::size_t>(b)];
+        if (ia >= 0 && ib >= 0) {
+            base.add_edge(ia, ib, {});
+        } else if (ia >= 0 || ib >= 0) {
+            // Cut where it crosses the border: the outside part stays.
+            const Vec2 out = city.positions[static_cast<std::size_t>(ia >= 0 ? a : b)];
+            const Vec2 in = city.positions[static_cast<std::size_t>(ia >= 0 ? b : a)];
+            double t = 1.0;
+            for (int axis = 0; axis < 2; ++axis) {
+                for (const double edge : {x0, x1}) {
+                    const double d = in[axis] - out[axis];
+                    if (std::abs(d) > 1e-9 && (edge - out[axis]) / d > 0) t = std::min(t, (edge - out[axis]) / d);
+                }
+            }
+            const VertexId end = base.add_vertex(out + t * (in - out));
+            base.add_edge(ia >= 0 ? ia : ib, end, {});
+            cut.push_back(end);
+        }
+    }
+    ASSERT_EQ(cut.size(), 24u);
+    // A street 45 m beside the westmost street cut at the south border, ending at the border
+    // too, with no street facing it across the hole: it is joined to what grew ahead of it.
+    VertexId beside = -1;
+    for (const VertexId v : cut) {
+        const Vec2& p = base.positions[static_cast<std::size_t>(v)];
+        if (std::abs(p.y() - x0) < 1e-6 && (beside < 0 || p.x() < base.positions[static_cast<std::size_t>(beside)].x())) beside = v;
+    }
+    ASSERT_GE(beside, 0);
+    // Two of them, 15 m apart: the second is joined to the junction the first made on the
+    // street ahead (a vertex made while the base's loose ends are joined).
+    for (const double aside : {45.0, 60.0}) {
+        const Vec2 lane_end = base.positions[static_cast<std::size_t>(beside)] + Vec2(aside, 0.0);
+        const VertexId lane = base.add_vertex(lane_end);
+        base.add_edge(base.add_vertex(lane_end - Vec2(0.0, 150.0)), lane, {});
+        cut.push_back(lane);
+    }
+
+    const Grammar grammar = learn_grammar(base).grammar;
+    for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
+        GrowOptions o;
+        o.seed = seed;
+        GrowReport report;
+        const GeometricGraph grown = grow_region(base, grammar, hole, o, &report);
+        // Six streets each way cross the hole: twelve pairs of ends face each other.
+        EXPECT_GE(report.traced_across, 10u) << "seed " << seed;
+        std::vector<std::size_t> degree(grown.vertex_count(), 0);
+        for (const auto& [a, b] : grown.edges) ++degree[static_cast<std::size_t>(a)], ++degree[static_cast<std::size_t>(b)];
+        std::size_t continued = 0;
+        for (const VertexId v : cut) {
+            continued += degree[static_cast<std::size_t>(v)] >= 2;
+            EXPECT_GE(degree[static_cast<std::size_t>(v)], 2u) << "seed " << seed << ": the street cut at " << base.positions[static_cast<std::size_t>(v)].transpose();
+        }
+        EXPECT_EQ(continued, cut.size()) << "seed " << seed;
+        EXPECT_LE(*std::max_element(degree.begin(), degree.end()), 4u) << "seed " << seed;
+        EXPECT_EQ(test::polyline_crossings(grown, base.edge_count()), 0u) << "seed " << seed;
+        for (std::size_t v = base.vertex_count(); v < grown.vertex_count(); ++v) EXPECT_TRUE(inside(hole, grown.positions[v])) << v;
+        for (std::size_t e = 0; e < base.edge_count(); ++e) ASSERT_EQ(grown.edges[e], base.edges[e]);
+        // The grid goes on: nearly every grown street runs along it.
+        std::size_t along = 0;
+        for (std::size_t e = base.edge_count(); e < grown.edge_count(); ++e) {
+            const auto [a, b] = grown.edges[e];
+            const Vec2 d = grown.positions[static_cast<std::size_t>(b)] - grown.positions[static_cast<std::size_t>(a)];
+            const double angle = std::fmod(std::abs(std::atan2(d.y(), d.x())) * 180.0 / M_PI, 90.0);
+            along += std::min(angle, 90.0 - angle) < 10.0;
+        }
+        EXPECT_GE(static_cast<double>(along), 0.85 * static_cast<double>(grown.edge_count() - base.edge_count())) << "seed " << seed;
+    }
+}
+
 } // namespace ggg
 
 namespace ggg {

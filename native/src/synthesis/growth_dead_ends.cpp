@@ -4,6 +4,7 @@
 #include "growth_stages.hpp"
 
 #include <algorithm>
+#include <tuple>
 
 #include "street_cleanup.hpp"
 
@@ -51,6 +52,7 @@ void Grower::close_dead_ends() {
         const auto v = static_cast<std::size_t>(loose_end);
         if (adjacency_[v].size() != 1) continue;
         const bool from_base = v < base_vertices_;
+
         const Vec2 p = g_.positions[v];
         const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
         VertexId best = -1;
@@ -60,7 +62,10 @@ void Grower::close_dead_ends() {
             const VertexId w = it->second;
             if (static_cast<std::size_t>(w) == v || adjacency_[static_cast<std::size_t>(w)].size() >= 4) continue;
             // One street of the base to a vertex: several would fan out from it.
-            if (from_base && (static_cast<std::size_t>(w) < base_vertices_ || joined_from_base[static_cast<std::size_t>(w)])) continue;
+            if (from_base && (static_cast<std::size_t>(w) < base_vertices_ ||
+                              (static_cast<std::size_t>(w) < joined_from_base.size() && joined_from_base[static_cast<std::size_t>(w)]))) {
+                continue;
+            }
             const Vec2 d = g_.positions[static_cast<std::size_t>(w)] - p;
             const double length = d.norm();
             const auto& n = adjacency_[v];
@@ -77,11 +82,19 @@ void Grower::close_dead_ends() {
             if (g_.edges[e][0] == static_cast<VertexId>(v) || g_.edges[e][1] == static_cast<VertexId>(v)) attributes.highway = g_.edge_highway[e];
         }
         if (best < 0) {
-            // No vertex ahead: the grown street ahead, if there is one, gets a T-junction.
-            if (join_street_ahead(static_cast<VertexId>(v), ahead, reach, attributes)) ++report_->t_junctions;
+            // No vertex ahead: the grown street ahead, if there is one, gets a T-junction; a
+            // street of the base, where none is straight ahead, merges into the one beside it.
+            if (join_street_ahead(static_cast<VertexId>(v), ahead, reach, attributes) ||
+                (from_base && join_street_beside(static_cast<VertexId>(v), ahead, reach, attributes))) {
+                ++report_->t_junctions;
+            }
             continue;
         }
-        if (from_base) joined_from_base[static_cast<std::size_t>(best)] = 1;
+        if (from_base) {
+            // (T-junctions made on the way add vertices after the first.)
+            joined_from_base.resize(std::max(joined_from_base.size(), g_.vertex_count()), 0);
+            joined_from_base[static_cast<std::size_t>(best)] = 1;
+        }
         const EdgeId e = g_.add_edge(static_cast<VertexId>(v), best, attributes);
         adjacency_[v].push_back(best);
         adjacency_[static_cast<std::size_t>(best)].push_back(static_cast<VertexId>(v));
@@ -155,12 +168,56 @@ bool Grower::join_street_ahead(VertexId v, const Vec2& ahead, double reach, cons
         }
     }
     if (hit < 0 || static_cast<std::size_t>(hit) < base_edges_) return false;
+    (void)hit_u;
+    return t_junction(v, hit, p + first_t * (end - p), attributes);
+}
+
+bool Grower::join_street_beside(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes) {
+    const Vec2 p = g_.positions[static_cast<std::size_t>(v)];
+    // Points of the grown streets near by, nearest first: the foot of the perpendicular and
+    // the quarters of each street, where they lie ahead and the joining street crosses nothing.
+    std::vector<std::tuple<double, EdgeId, Vec2>> candidates;
+    for (auto it = segments_.qbegin(bgi::intersects(spatial::around(p, reach))); it != segments_.qend(); ++it) {
+        const EdgeId e = it->second;
+        const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
+        if (static_cast<std::size_t>(e) < base_edges_ || g_.geometry_size(e) != 2 || a == v || b == v) continue;
+        const Vec2 pa = g_.positions[static_cast<std::size_t>(a)], pb = g_.positions[static_cast<std::size_t>(b)];
+        const Vec2 d = pb - pa;
+        for (const double t : {std::clamp((p - pa).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0), 0.25, 0.5, 0.75}) {
+            const Vec2 x = pa + t * d;
+            const Vec2 to = x - p;
+            const double length = to.norm();
+            if (length < 1e-9 || length >= reach || to.dot(ahead) < 0.7 * length) continue;
+            candidates.emplace_back(length, e, x);
+        }
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
+    // Whether p-x crosses a street other than the one it ends on (it touches that one at x).
+    auto crosses_another = [&](const Vec2& x, EdgeId target) {
+        Box box(point(p), point(p));
+        bg::expand(box, point(x));
+        for (auto it = segments_.qbegin(bgi::intersects(box)); it != segments_.qend(); ++it) {
+            if (it->second == target) continue;
+            const Vec2* q = g_.geometry_begin(it->second);
+            for (std::size_t i = 0; i + 1 < g_.geometry_size(it->second); ++i) {
+                if (segments_meet(p, x, q[i], q[i + 1])) return true;
+            }
+        }
+        return false;
+    };
+    for (const auto& [length, e, x] : candidates) {
+        if (!crosses_another(x, e) && t_junction(v, e, x, attributes)) return true;
+    }
+    return false;
+}
+
+bool Grower::t_junction(VertexId v, EdgeId hit, const Vec2& x, const EdgeAttributes& attributes) {
+    const Vec2 p = g_.positions[static_cast<std::size_t>(v)];
     const auto e = static_cast<std::size_t>(hit);
     const auto [a, b] = g_.edges[e];
     const double length = g_.edge_length(hit);
-    const double keep = o_.spacing * length;
-    if (hit_u * length < std::max(keep, 1e-6) || (1.0 - hit_u) * length < std::max(keep, 1e-6)) return false;
-    const Vec2 x = p + first_t * (end - p);
+    const double keep = std::max(o_.spacing * length, 1e-6);
+    if ((x - g_.positions[static_cast<std::size_t>(a)]).norm() < keep || (x - g_.positions[static_cast<std::size_t>(b)]).norm() < keep) return false;
     if (!inside(region_, 0.5 * (p + x))) return false;
     // The blocks on either side of the new street, with the junction in place.
     const auto x_id = static_cast<VertexId>(g_.vertex_count());

@@ -137,6 +137,16 @@ private:
     // ends: the street is split there into a T-junction. False when nothing was joined.
     bool join_street_ahead(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes);
 
+    // The dead end v joined to the nearest point of a grown street within reach and within
+    // 45 degrees of straight ahead (a carriageway merging into the street beside it), split
+    // there into a T-junction, when the joining street crosses nothing. False when nothing was.
+    bool join_street_beside(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes);
+
+    // The street from v to the point x of the grown street `hit`, split there into a
+    // T-junction, when x keeps its distance from the street's ends, the street stays in the
+    // region and leaves no block smaller than the city's small ones. False when it does not fit.
+    bool t_junction(VertexId v, EdgeId hit, const Vec2& x, const EdgeAttributes& attributes);
+
     GeometricGraph g_;
     GeometricGraph style_city_; // the city whose junctions traced streets copy
     const Grammar& grammar_;
