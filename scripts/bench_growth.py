@@ -1,7 +1,8 @@
 """Growth figures of docs/benchmarks.md and docs/synthesis.md: time to grow a 1 km² hole cut
 out of Porto (all highways) back with default options, time to grow 1,000 rules at Porto's east
-edge, and how alike regions grown from Columbus' and the Marais' grammars are to
-each city (the four distances of ggg.compare, seeds 1 to 8).
+edge, time to replace the copies of Porto's most frequent block by a plaza (Fig. 1), and how
+alike regions grown from Columbus' and the Marais' grammars are to each city (the four
+distances of ggg.compare, seeds 1 to 8).
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/bench_growth.py [--quick]
 
@@ -86,6 +87,26 @@ def style(seeds):
                             for k in ("degree", "edge_length", "orientation", "block_area", "mean")))
 
 
+def porto_replacement():
+    porto = ggg.read_graph(str(OSM / "porto_metro.osm.pbf"), highways="all")
+    t = time.perf_counter()
+    analysis = ggg.analyze(porto, max_order=8)
+    analysed = time.perf_counter() - t
+    blocks = [iso for iso in analysis.isogroups if iso.edge_count == iso.order >= 4]
+    block = max(blocks, key=lambda iso: len(iso.non_overlapping))
+    n = 16
+    angles = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    plaza = np.c_[np.cos(angles), np.sin(angles)]
+    edges = np.array([(i, (i + 1) % n) for i in range(n)])
+    t = time.perf_counter()
+    _, report = ggg.replace_isogroup(porto, block, plaza, edges)
+    replaced = time.perf_counter() - t
+    print("porto replacement (all highways, {:,} vertices): analyse {:.1f} s; replace {:.2f} s: {:,} copies of the "
+          "{}-vertex block by a {}-vertex plaza, {:,} streets joined, {:,} intersections".format(
+              porto.vertex_count, analysed, replaced, report["replaced"], block.order, n, report["joined_streets"],
+              report["intersections"]), flush=True)
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="two seeds, no Porto")
@@ -95,6 +116,7 @@ def main(argv):
     if not args.quick:
         porto_hole()
         porto_edge()
+        porto_replacement()
     style(range(1, 3) if args.quick else range(1, 9))
 
 

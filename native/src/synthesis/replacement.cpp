@@ -85,9 +85,10 @@ Similarity2 fitted_frame(const Similarity2& transform, const std::vector<Vec2>& 
 // are the added ones (edges a split appends are checked too). Returns the intersections made.
 std::size_t join_crossings(GeometricGraph& g, std::size_t first_new) {
     using spatial::EdgeEntry;
-    std::vector<EdgeEntry> entries;
-    for (std::size_t e = 0; e < first_new; ++e) entries.emplace_back(spatial::edge_box(g, static_cast<EdgeId>(e)), static_cast<EdgeId>(e));
-    const spatial::RTree<EdgeEntry> old_edges(entries.begin(), entries.end());
+    // Every street by its box; a street split here keeps its id and its old (larger) box, and
+    // its second half is added.
+    spatial::IncrementalRTree<EdgeEntry> streets;
+    for (std::size_t e = 0; e < g.edge_count(); ++e) streets.insert({spatial::edge_box(g, static_cast<EdgeId>(e)), static_cast<EdgeId>(e)});
     std::size_t made = 0;
     std::vector<EdgeEntry> near;
     for (std::size_t e = first_new; e < g.edge_count(); ++e) {
@@ -96,14 +97,16 @@ std::size_t join_crossings(GeometricGraph& g, std::size_t first_new) {
             const auto id = static_cast<EdgeId>(e);
             const Vec2 p = g.positions[static_cast<std::size_t>(g.edges[e][0])], q = g.positions[static_cast<std::size_t>(g.edges[e][1])];
             const double eps = 1e-9 * std::max(1.0, (q - p).norm());
-            // The first crossing along e, over every other edge's pieces.
+            // The first crossing along e, over every other street's pieces.
             double best_t = 1.0;
             EdgeId best_f = -1;
             Vec2 where = Vec2::Zero();
-            auto consider = [&](EdgeId f) {
-                if (f == id) return;
+            near.clear();
+            streets.query(spatial::bgi::intersects(spatial::around(p, q)), std::back_inserter(near));
+            for (const auto& [box, f] : near) {
+                if (f == id) continue;
                 const auto [fa, fb] = g.edges[static_cast<std::size_t>(f)];
-                if (fa == g.edges[e][0] || fa == g.edges[e][1] || fb == g.edges[e][0] || fb == g.edges[e][1]) return;
+                if (fa == g.edges[e][0] || fa == g.edges[e][1] || fb == g.edges[e][0] || fb == g.edges[e][1]) continue;
                 const Vec2* line = g.geometry_begin(f);
                 for (std::size_t k = 0; k + 1 < g.geometry_size(f); ++k) {
                     const auto m = segment_meeting(p, q, line[k], line[k + 1]);
@@ -116,24 +119,21 @@ std::size_t join_crossings(GeometricGraph& g, std::size_t first_new) {
                         where = p + m->first * (q - p);
                     }
                 }
-            };
-            near.clear();
-            old_edges.query(spatial::bgi::intersects(spatial::around(p, q)), std::back_inserter(near));
-            for (const auto& [box, f] : near) consider(f);
-            for (std::size_t f = first_new; f < g.edge_count(); ++f) consider(static_cast<EdgeId>(f));
+            }
             if (best_f < 0 || best_t >= 1.0 - eps) continue;
             // Split e, then f at the same point, and let f's two halves end at e's new vertex.
             const VertexId x = g.split_edge(id, where);
-            const VertexId y = g.split_edge(best_f, where);
+            streets.insert({spatial::edge_box(g, static_cast<EdgeId>(g.edge_count() - 1)), static_cast<EdgeId>(g.edge_count() - 1)});
+            g.split_edge(best_f, where);
             g.edges[static_cast<std::size_t>(best_f)][1] = x;
             g.edges.back()[0] = x;
-            // y is the last vertex and nothing refers to it any more.
+            streets.insert({spatial::edge_box(g, static_cast<EdgeId>(g.edge_count() - 1)), static_cast<EdgeId>(g.edge_count() - 1)});
+            // The vertex the second split made is the last, and nothing refers to it any more.
             g.positions.pop_back();
             g.vertex_osm_ids.pop_back();
             g.symbols.pop_back();
             g.frames.pop_back();
             if (g.instances.size() > g.vertex_count()) g.instances.pop_back();
-            (void)y;
             ++made;
             again = true;
         }
