@@ -38,16 +38,60 @@ except ImportError as e:
     sys.exit(f"error: {e}; build the ggg module and install python3-numpy and python3-matplotlib")
 
 
-def crop(graph, lo, hi, shift=(0.0, 0.0)):
-    """The part of `graph` with both ends of each edge inside the box lo..hi, moved by `shift`."""
+def cut_to_box(graph, lo, hi, shift=(0.0, 0.0)):
+    """The part of `graph` inside the box lo..hi, cut as a knife would (a street that crosses the
+    box's border keeps its part inside, which ends there in a new dead end), moved by `shift`.
+    Returns the graph and the ids of those new dead ends."""
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     p = graph.positions
-    keep = np.all((p >= lo) & (p <= hi), axis=1)
+    inside = np.all((p >= lo) & (p <= hi), axis=1)
     index = -np.ones(len(p), dtype=np.int64)
-    index[keep] = np.arange(keep.sum())
-    e = graph.edges
-    ok = keep[e[:, 0]] & keep[e[:, 1]]
-    return ggg.Graph.from_arrays(p[keep] + np.asarray(shift), index[e[ok]], graph.origin_latlon if hasattr(graph, "origin_latlon") else (0.0, 0.0),
-                                 edge_highway=graph.edge_highway[ok])
+    index[inside] = np.arange(inside.sum())
+    positions = list(p[inside])
+    offsets, points = graph.edge_geometry()
+    edges, lines, classes, ends = [], [], [], []
+
+    def inside_until(line):
+        """The line from its first point while it stays in the box, ending on the border."""
+        kept = [line[0]]
+        for a, b in zip(line[:-1], line[1:]):
+            if np.all((b >= lo) & (b <= hi)):
+                kept.append(b)
+                continue
+            d = b - a
+            t = 1.0
+            for axis in (0, 1):
+                for edge in (lo[axis], hi[axis]):
+                    if d[axis] != 0 and 0 <= (edge - a[axis]) / d[axis] < t:
+                        t = (edge - a[axis]) / d[axis]
+            kept.append(a + t * d)
+            return np.array(kept), True
+        return np.array(kept), False
+
+    for e, (a, b) in enumerate(graph.edges):
+        line = points[offsets[e]:offsets[e + 1]]
+        if inside[a] and inside[b] and np.all(np.all((line >= lo) & (line <= hi), axis=1)):
+            edges.append((index[a], index[b]))
+            lines.append(line)
+            classes.append(graph.edge_highway[e])
+            continue
+        for start, line_from in ((a, line), (b, line[::-1])):
+            if not inside[start]:
+                continue
+            piece, cut = inside_until(line_from)
+            if not cut or len(piece) < 2:
+                continue
+            ends.append(len(positions))
+            positions.append(piece[-1])
+            edges.append((index[start], ends[-1]))
+            lines.append(piece)
+            classes.append(graph.edge_highway[e])
+    shift = np.asarray(shift, dtype=float)
+    new_offsets = np.concatenate([[0], np.cumsum([len(line) for line in lines])]).astype(np.int64)
+    cut = ggg.Graph.from_arrays(np.asarray(positions) + shift, np.asarray(edges, dtype=np.int64).reshape(-1, 2),
+                                graph.origin_latlon, edge_highway=np.asarray(classes),
+                                edge_geometry=(new_offsets, np.concatenate(lines) + shift))
+    return cut, np.asarray(ends, dtype=np.int64)
 
 
 def draw(ax, graph, first_edge=0, last_edge=None, colour="#222222", lw=0.8):
@@ -109,11 +153,18 @@ def stitch_figure(out):
     old_rules, _ = ggg.learn(paris)
     c_b, c_p = np.median(barcelona.positions, 0), np.median(paris.positions, 0)
     half = np.array([600.0, 600.0])
-    west = crop(barcelona, c_b - half, c_b + half, -c_b)            # centred on (0, 0)
-    east = crop(paris, c_p - half, c_p + half, -c_p + [2000.0, 0.0])  # 2 km east of it
+    west, west_ends = cut_to_box(barcelona, c_b - half, c_b + half, -c_b)            # centred on (0, 0)
+    east, east_ends = cut_to_box(paris, c_p - half, c_p + half, -c_p + [2000.0, 0.0])  # 2 km east of it
+    w_off, w_pts = west.edge_geometry()
+    e_off, e_pts = east.edge_geometry()
     both = ggg.Graph.from_arrays(np.vstack([west.positions, east.positions]),
                                  np.vstack([west.edges, east.edges + west.vertex_count]),
-                                 edge_highway=np.concatenate([west.edge_highway, east.edge_highway]))
+                                 west.origin_latlon,
+                                 edge_highway=np.concatenate([west.edge_highway, east.edge_highway]),
+                                 edge_geometry=(np.concatenate([w_off, e_off[1:] + w_off[-1]]), np.vstack([w_pts, e_pts])))
+    # The streets of either city that reach the gap: those the cut ended on the side facing it.
+    facing = np.concatenate([west_ends[np.abs(west.positions[west_ends, 0] - 600.0) < 1e-6],
+                             west.vertex_count + east_ends[np.abs(east.positions[east_ends, 0] - 1400.0) < 1e-6]])
     gap_west = np.array([[600.0, -600.0], [1000.0, -600.0], [1000.0, 600.0], [600.0, 600.0]])
     gap_east = gap_west + [400.0, 0.0]
     step1, r1 = ggg.grow_region(both, grid_rules, gap_west, seed=1, border_m=150.0, continue_hierarchy=False)
@@ -121,6 +172,9 @@ def stitch_figure(out):
     # The main roads of both cities continued across the whole gap (both growths).
     gap = np.array([[600.0, -600.0], [1400.0, -600.0], [1400.0, 600.0], [600.0, 600.0]])
     step3, hierarchy = ggg.continue_hierarchy(step2, both.edge_count, region=gap, border_m=150.0)
+    degree = np.bincount(np.asarray(step3.edges).ravel(), minlength=step3.vertex_count)
+    reached = int(np.sum(degree[facing] >= 2))
+    print("stitch: {} of the {} streets of either city that reach the gap continue into it".format(reached, len(facing)))
     ranks = np.array(ggg.highway_ranks())
     main_rank = ranks[ggg.highway_classes().index("tertiary")]
     fig, ax = plt.subplots(figsize=(13, 5.6))
@@ -140,8 +194,9 @@ def stitch_figure(out):
     for gap in (gap_west, gap_east):
         ax.plot(*np.vstack([gap, gap[:1]]).T, color="#999999", ls="--", lw=0.8)
     frame(ax, (-650, -650), (2650, 650), "Barcelona (red) and Paris (blue), the gap grown from the streets of each "
-          "({} streets traced on, {} placed); main roads thick, continued across the gap in green ({} joined)".format(
-              r1["traced_streets"] + r2["traced_streets"],
+          "({} of {} continued, {} streets traced on, {} placed);\nmain roads thick, continued across the gap in green "
+          "({} joined)".format(
+              reached, len(facing), r1["traced_streets"] + r2["traced_streets"],
               "1 rule" if r1["placements"] + r2["placements"] == 1 else "{} rules".format(r1["placements"] + r2["placements"]),
               hierarchy["routes"] + hierarchy["connectors"]))
     fig.text(0.99, 0.01, CREDIT, ha="right", fontsize=7, color="#666666")
