@@ -102,6 +102,12 @@ def clip_outside(line, x0, y0, x1, y1):
     return pieces
 
 
+def shared_places(graph, quantum=0.01):
+    """Vertices that share a place (the same centimetre) with another vertex."""
+    cells = np.round(np.asarray(graph.positions) / quantum).astype(np.int64)
+    return len(cells) - len(np.unique(cells, axis=0))
+
+
 def inner_dead_end_share(graph, hole):
     """The share of dead ends among the vertices strictly inside the hole: streets that end
     there, not streets the cut (or the hole's border) ended."""
@@ -286,6 +292,7 @@ def measure(city, seeds):
             "junction_angle": c["distances"]["junction_angle"],
             "mean": c["distances"]["mean"], "ring_mean": floor["distances"]["mean"],
             "crossings": crossings(grown, set(new_edges.tolist())),
+            "shared_places": shared_places(grown) - shared_places(rest),
             "learn_s": learn_seconds, "grow_s": grow_seconds, "rules": stats["rules"],
         })
     return rows

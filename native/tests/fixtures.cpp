@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -105,5 +106,13 @@ std::size_t polyline_crossings(const GeometricGraph& g, std::size_t from_edge) {
     return n;
 }
 
+
+std::size_t shared_places(const GeometricGraph& g, double quantum) {
+    std::vector<std::pair<long long, long long>> cells;
+    cells.reserve(g.vertex_count());
+    for (const Vec2& p : g.positions) cells.emplace_back(std::llround(p.x() / quantum), std::llround(p.y() / quantum));
+    std::sort(cells.begin(), cells.end());
+    return cells.size() - static_cast<std::size_t>(std::unique(cells.begin(), cells.end()) - cells.begin());
+}
 
 } // namespace ggg::test

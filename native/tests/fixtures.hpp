@@ -25,6 +25,9 @@ std::size_t component_count(const GeometricGraph& g);
 // their ends: a street that passes over another without an intersection.
 std::size_t polyline_crossings(const GeometricGraph& g, std::size_t from_edge = 0);
 
+// Vertices that share a place (the same `quantum` cell) with another vertex.
+std::size_t shared_places(const GeometricGraph& g, double quantum = 0.01);
+
 // Result of running the CLI: exit code, stdout, stderr.
 struct CliResult {
     int code;

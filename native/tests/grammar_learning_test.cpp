@@ -144,6 +144,8 @@ TEST_P(PaperCorpus, DecodedVerticesStayNearTheirStreets) {
     EXPECT_TRUE(result.roundtrip.edges_equal);
     EXPECT_LE(result.roundtrip.max_displacement_m, options.max_vertex_error_m + 0.01);
     EXPECT_LE(result.roundtrip.mean_displacement_m, 3.0);
+    // One vertex per place: decoding puts no two vertices where the input had one.
+    EXPECT_LE(test::shared_places(decode_grammar(result.grammar)), test::shared_places(input));
     std::printf("%s: %zu vertices, %zu levels, %zu rules, axiom %zu vertices, graph %zu B, grammar %zu B (%.2fx), error max %.2f m mean %.2f m\n",
                 std::filesystem::path(GetParam()).filename().c_str(), input.vertex_count(), static_cast<std::size_t>(result.grammar.encoding.levels),
                 result.grammar.rules.size(), result.grammar.axiom_vertices.size(), graph_structure_bytes(input), grammar_bytes(result.grammar),

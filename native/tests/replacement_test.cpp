@@ -180,14 +180,7 @@ TEST(Replacement, BarcelonaBlocksBecomePlazasInsideThemJoinedToTheirJunctions) {
     for (std::size_t v = 0; v < out.vertex_count() - report.added_vertices; ++v) {
         EXPECT_TRUE(before.count({out.positions[v].x(), out.positions[v].y()})) << v;
     }
-    auto close_pairs = [](const std::vector<Vec2>& positions) {
-        std::size_t n = 0;
-        for (std::size_t v = 0; v < positions.size(); ++v) {
-            for (std::size_t w = v + 1; w < positions.size(); ++w) n += (positions[v] - positions[w]).norm() < 0.01;
-        }
-        return n;
-    };
-    EXPECT_LE(close_pairs(out.positions), close_pairs(g.positions));
+    EXPECT_LE(test::shared_places(out), test::shared_places(g));
     // No street of the result crosses another without an intersection, beyond the bridges
     // and tunnels the Eixample already has; every plaza is joined to the network (a plaza
     // that crosses a path the network did not reach joins it too).

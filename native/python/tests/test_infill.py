@@ -36,4 +36,5 @@ def test_a_hole_grown_back_meets_the_targets(city, seeds):
         assert row["dead"] <= row["real_dead"] + (0.08 if city == "paris_marais.osm.pbf" else 0.05), where
         assert row["mean"] <= 1.5 * row["ring_mean"], where
         assert row["crossings"] == 0, where
+        assert row["shared_places"] == 0, where  # one vertex per place
         assert row["continued"] >= 0.85, where
