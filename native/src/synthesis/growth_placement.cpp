@@ -222,6 +222,32 @@ bool Grower::place(const Prototype& p, const Frame& frame, const Vec2& origin, V
             }
         }
     }
+    // No new street may run alongside a street closer than new vertices may come to one
+    // (within 15 degrees of parallel, beside each other): the thin slivers between two such
+    // streets are no blocks.
+    if (!by_hand) {
+        const double near = o_.spacing * typical;
+        for (const auto& [ia, ib] : added) {
+            const Vec2& a = local.positions[static_cast<std::size_t>(ia)];
+            const Vec2& b = local.positions[static_cast<std::size_t>(ib)];
+            const Vec2 along = b - a;
+            const double length = along.norm();
+            if (length < 1e-9) continue;
+            for (auto it = segments_.qbegin(bgi::intersects(spatial::around(a, b, near))); it != segments_.qend(); ++it) {
+                const Vec2* q = g_.geometry_begin(it->second);
+                for (std::size_t k = 0; k + 1 < g_.geometry_size(it->second); ++k) {
+                    const Vec2 r = q[k + 1] - q[k];
+                    const double rl = r.norm();
+                    if (rl < 1e-9 || std::abs(cross(along, r)) > std::sin(M_PI / 12) * length * rl) continue;
+                    // Beside each other: the middle of the shorter within the other's span, and close.
+                    const Vec2 mid = length < rl ? 0.5 * (a + b) : 0.5 * (q[k] + q[k + 1]);
+                    const Vec2 s0 = length < rl ? q[k] : a, s1 = length < rl ? q[k + 1] : b;
+                    const double t = (mid - s0).dot(s1 - s0) / (s1 - s0).squaredNorm();
+                    if (t > 0.0 && t < 1.0 && distance_to_segment(mid, s0, s1) < near) return reject(PlacementOutcome::crowded);
+                }
+            }
+        }
+    }
     // No new street may close a block smaller than the city's small ones (a rule placed
     // by hand has the size its user gave it).
     if (min_block_m2_ > 0 && !by_hand) {

@@ -95,7 +95,7 @@ void visit_grow_options(Options& o, Visit&& visit) {
     visit("border_m", "--border", "How near the region (metres) a base street must end to be grown from; < 0: 5 % of its size",
           o.border_m);
     visit("snap", "--snap", "A placed vertex this close to a street vertex (relative to the rule's size) becomes that vertex", o.snap);
-    visit("spacing", "--spacing", "New vertices keep this fraction of the rule's typical edge length from other vertices", o.spacing);
+    visit("spacing", "--spacing", "New vertices keep this fraction of the rule's typical edge length from other vertices, and new streets from streets alongside them", o.spacing);
     visit("turn_deg", "--turn", "Random turn (degrees) of each placement around its aim", o.turn_deg);
     visit("size_jitter", "--size-jitter", "Random relative size change of each placement (0 to below 1)", o.size_jitter);
     visit("default_size_m", "--default-size", "Size (metres per unit) of a rule without a learned size (hand-written grammars)",
