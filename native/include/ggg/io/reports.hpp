@@ -45,7 +45,7 @@ nlohmann::json derive_report_json(const GeometricGraph& derived, const DeriveRep
 // intersections.
 nlohmann::json hierarchy_report_json(const HierarchyReport& report);
 
-// ggg.replace_isogroup's: replaced, removed_vertices, added_vertices, reconnected_streets.
+// ggg.replace_isogroup's: replaced, removed_vertices, added_vertices, joined_streets, intersections.
 nlohmann::json replacement_report_json(const ReplaceReport& report);
 
 // The figures of a learning as `ggg learn` prints them (docs/learning.md): input, mode,
