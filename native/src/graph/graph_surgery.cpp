@@ -1,11 +1,8 @@
 #include "ggg/graph/graph_surgery.hpp"
 
-#include <numeric>
-#include <set>
 #include <string>
 
 #include "ggg/error.hpp"
-#include "ggg/graph/spatial_index.hpp"
 
 namespace ggg {
 
@@ -120,64 +117,6 @@ Regrown with_grown(const GeometricGraph& graph, const std::vector<bool>& keep, c
     for (std::size_t j = part_edges; j < grown.edge_count(); ++j) copy_grown_edge(j);
     complete_instances(out.graph);
     return out;
-}
-
-} // namespace ggg
-
-namespace ggg {
-
-std::vector<VertexId> merge_coincident_vertices(GeometricGraph& graph, double tolerance) {
-    const std::size_t n = graph.vertex_count();
-    std::vector<VertexId> root(n);
-    std::iota(root.begin(), root.end(), 0);
-    auto find = [&](VertexId v) {
-        while (root[static_cast<std::size_t>(v)] != v) v = root[static_cast<std::size_t>(v)] = root[static_cast<std::size_t>(root[static_cast<std::size_t>(v)])];
-        return v;
-    };
-    std::vector<spatial::VertexEntry> entries;
-    entries.reserve(n);
-    for (std::size_t v = 0; v < n; ++v) entries.emplace_back(spatial::point(graph.positions[v]), static_cast<VertexId>(v));
-    const spatial::RTree<spatial::VertexEntry> tree(entries.begin(), entries.end());
-    bool any = false;
-    std::vector<spatial::VertexEntry> near;
-    for (std::size_t v = 0; v < n; ++v) {
-        near.clear();
-        tree.query(spatial::bgi::intersects(spatial::around(graph.positions[v], tolerance)), std::back_inserter(near));
-        for (const auto& [p, w] : near) {
-            if (w == static_cast<VertexId>(v) || (graph.positions[static_cast<std::size_t>(w)] - graph.positions[v]).norm() > tolerance) continue;
-            const VertexId a = find(static_cast<VertexId>(v)), b = find(w);
-            if (a != b) {
-                root[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-                any = true;
-            }
-        }
-    }
-    std::vector<VertexId> index(n, -1);
-    if (!any) {
-        std::iota(index.begin(), index.end(), 0);
-        return index;
-    }
-    GeometricGraph out;
-    out.origin = graph.origin;
-    for (std::size_t v = 0; v < n; ++v) {
-        const VertexId r = find(static_cast<VertexId>(v));
-        index[v] = r == static_cast<VertexId>(v) ? copy_vertex(graph, r, out) : index[static_cast<std::size_t>(r)];
-    }
-    std::set<std::pair<VertexId, VertexId>> joined;
-    for (std::size_t e = 0; e < graph.edge_count(); ++e) {
-        const VertexId u = index[static_cast<std::size_t>(graph.edges[e][0])], v = index[static_cast<std::size_t>(graph.edges[e][1])];
-        if (u == v || !joined.insert(std::minmax(u, v)).second) continue;
-        const auto id = static_cast<EdgeId>(e);
-        std::vector<Vec2> line(graph.geometry_begin(id), graph.geometry_begin(id) + graph.geometry_size(id));
-        if (!line.empty()) {
-            line.front() = out.positions[static_cast<std::size_t>(u)];
-            line.back() = out.positions[static_cast<std::size_t>(v)];
-        }
-        out.add_edge(u, v, graph.edge_attributes(id), line);
-    }
-    complete_instances(out);
-    graph = std::move(out);
-    return index;
 }
 
 } // namespace ggg

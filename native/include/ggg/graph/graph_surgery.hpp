@@ -37,14 +37,3 @@ Regrown with_grown(const GeometricGraph& graph, const std::vector<bool>& keep, c
                    const GeometricGraph& grown);
 
 } // namespace ggg
-
-namespace ggg {
-
-// `graph` with the vertices that lie within `tolerance` metres of each other made one: the
-// lowest id of each cluster stays, with its columns, and takes the others' edges. An edge that
-// would join a vertex to itself goes, and of two edges between the same pair the first stays.
-// Returns, per old vertex, its id in the new graph. One vertex per place is what a street
-// network is: two rewrites that end at one corner (the Sierpinski triangles) meet there.
-std::vector<VertexId> merge_coincident_vertices(GeometricGraph& graph, double tolerance);
-
-} // namespace ggg
