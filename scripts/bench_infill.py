@@ -64,8 +64,8 @@ def inside(points, x0, y0, x1, y1):
 def clip_outside(line, x0, y0, x1, y1):
     """The pieces of a polyline outside the rectangle, as (points, starts at the first point,
     ends at the last point): where a piece leaves the line, it ends on the rectangle's border."""
-    def out(p):
-        return not (x0 <= p[0] <= x1 and y0 <= p[1] <= y1)
+    def out(p):  # the border counts as outside, as in cut_hole
+        return not (x0 < p[0] < x1 and y0 < p[1] < y1)
 
     def crossing(a, b):
         # The parameters t in (0, 1) where segment ab meets the rectangle's border, in order.
@@ -81,7 +81,7 @@ def clip_outside(line, x0, y0, x1, y1):
                         bounds = (y0, y1) if other == 1 else (x0, x1)
                         if bounds[0] - 1e-9 <= q[other] <= bounds[1] + 1e-9:
                             ts.append(t)
-        return sorted(ts)
+        return sorted(set(ts))  # (a segment through a corner meets two sides at one t)
 
     pieces, current, starts = [], None, False
     for i in range(len(line) - 1):
@@ -134,7 +134,8 @@ def cut_hole(graph, hole):
     the rest and, per vertex of the graph, its index in the rest (-1 inside), and the vertices
     of the rest where the cut left a street's end (the severed streets)."""
     p = graph.positions
-    in_hole = inside(p, *hole)
+    x0, y0, x1, y1 = hole
+    in_hole = (p[:, 0] > x0) & (p[:, 0] < x1) & (p[:, 1] > y0) & (p[:, 1] < y1)  # a vertex on the border stays
     edges = np.asarray(graph.edges, dtype=np.int64)
     offsets, points = graph.edge_geometry()
     index = np.full(graph.vertex_count, -1, dtype=np.int64)

@@ -174,12 +174,26 @@ TEST(Replacement, BarcelonaBlocksBecomePlazasInsideThemJoinedToTheirJunctions) {
     }
     EXPECT_EQ(placed_inside, chosen.size() * 20);
 
-    // The streets around stay where they were; one vertex per place.
-    std::set<std::pair<double, double>> before, after;
-    for (const Vec2& p : g.positions) before.insert({p.x(), p.y()});
-    for (std::size_t v = 0; v < out.vertex_count() - report.added_vertices; ++v) {
-        EXPECT_TRUE(before.count({out.positions[v].x(), out.positions[v].y()})) << v;
+    // The streets around stay where they were, in their order: every vertex but those of an
+    // occurrence that no other street reaches; one vertex per place.
+    std::vector<std::int32_t> owner(g.vertex_count(), -1);
+    for (std::size_t c = 0; c < chosen.size(); ++c) {
+        for (VertexId v : block->group.occurrence(chosen[c])) owner[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(c);
     }
+    std::vector<char> reached(g.vertex_count(), 0);
+    for (const auto& [a, b] : g.edges) {
+        const std::int32_t oa = owner[static_cast<std::size_t>(a)], ob = owner[static_cast<std::size_t>(b)];
+        if (oa < 0 || oa != ob) reached[static_cast<std::size_t>(a)] = reached[static_cast<std::size_t>(b)] = 1;
+    }
+    std::size_t kept = 0;
+    for (std::size_t v = 0; v < g.vertex_count(); ++v) {
+        if (owner[v] >= 0 && !reached[v]) continue;
+        ASSERT_LT(kept, out.vertex_count());
+        EXPECT_EQ(out.positions[kept++], g.positions[v]) << v;
+    }
+    EXPECT_EQ(kept + report.added_vertices, out.vertex_count());
+    EXPECT_EQ(report.removed_vertices, g.vertex_count() - kept);
+    EXPECT_TRUE(check_simple(out).empty()) << check_simple(out);
     EXPECT_LE(test::shared_places(out), test::shared_places(g));
     // No street of the result crosses another without an intersection, beyond the bridges
     // and tunnels the Eixample already has; every plaza is joined to the network (a plaza

@@ -1,12 +1,14 @@
-// The stage of growth after the rules: once the region is full, the grown dead ends are joined
-// to a vertex or a grown street ahead of them, and the short stubs that nothing was grown onto
-// are cut (growth_stages.hpp).
+// The stage of growth after the rules: once the region is full, the dead ends (the grown ones,
+// and those of the base that point into the region with nothing grown on) are joined to a
+// vertex or a grown street ahead of them, and the short stubs that nothing was grown onto are
+// cut (growth_stages.hpp).
 #include "growth_stages.hpp"
 
 #include <algorithm>
 #include <tuple>
 
 #include "street_cleanup.hpp"
+#include "tracing_stages.hpp"
 
 namespace ggg::growth_detail {
 
@@ -34,8 +36,16 @@ void Grower::close_dead_ends() {
     // reaches the region is joined to what grew there, even where tracing could not carry
     // it on (two carriageways side by side, a street too close to another).
     std::vector<VertexId> loose;
+    std::vector<HighwayClass> end_class(base_vertices_, HighwayClass::other);
+    for (std::size_t e = 0; e < base_edges_; ++e) {
+        for (const VertexId x : g_.edges[e]) {
+            if (static_cast<std::size_t>(x) < base_vertices_) end_class[static_cast<std::size_t>(x)] = g_.edge_highway[e];
+        }
+    }
     for (std::size_t v = 0; v < base_vertices_; ++v) {
-        if (adjacency_[v].size() != 1) continue;
+        // Motorways, trunk roads and links are routes, not streets of a district (as in tracing):
+        // the main roads are continued afterwards.
+        if (adjacency_[v].size() != 1 || !tracing::traced_class(end_class[v])) continue;
         const Vec2 p = g_.positions[v];
         const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
         // Into the region, not along its border.
@@ -152,7 +162,6 @@ bool Grower::join_street_ahead(VertexId v, const Vec2& ahead, double reach, cons
     bg::expand(box, point(end));
     double first_t = 2.0;
     EdgeId hit = -1;
-    double hit_u = 0.0;
     for (auto it = segments_.qbegin(bgi::intersects(box)); it != segments_.qend(); ++it) {
         const EdgeId e = it->second;
         const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
@@ -163,12 +172,10 @@ bool Grower::join_street_ahead(VertexId v, const Vec2& ahead, double reach, cons
             if (m && m->first > 1e-9 && m->first < first_t) {
                 first_t = m->first;
                 hit = g_.geometry_size(e) == 2 ? e : -1; // only a straight street is split
-                hit_u = m->second;
             }
         }
     }
     if (hit < 0 || static_cast<std::size_t>(hit) < base_edges_) return false;
-    (void)hit_u;
     return t_junction(v, hit, p + first_t * (end - p), attributes);
 }
 

@@ -123,8 +123,9 @@ private:
     // Whether a street from v to w would close a block smaller than the city's small ones.
     bool closes_small_block(VertexId v, VertexId w);
 
-    // A new dead end is joined to the vertex ahead of it that is closest, where the joining
-    // street crosses nothing: grown streets meet the ones around instead of stopping short.
+    // A dead end (a grown one, or one of the base that points into the region with nothing
+    // grown on) is joined to the vertex ahead of it that is closest, where the joining street
+    // crosses nothing: streets meet the ones around instead of stopping short.
     void close_dead_ends();
 
     // Grown dead ends shorter than o_.prune_stubs times the typical grown street are cut off:

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <unordered_map>
 #include <boost/geometry/algorithms/centroid.hpp>
 #include <boost/geometry/algorithms/convex_hull.hpp>
 #include <boost/geometry/geometries/multi_point.hpp>
@@ -27,7 +26,7 @@ constexpr double kFill = 0.8;
 // The frame that puts the piece into one occurrence: the occurrence's own transform, then
 // centred on the occurrence's area and scaled so that every vertex of the piece lies within
 // its convex hull, the hull shrunk to kFill, and smaller while the piece would cross a street
-// that stays (`crosses`). A plaza for a block stays inside the block, whatever size it was
+// that stays (`crosses`; twelve steps of 0.8 at most, then the smallest). A plaza for a block stays inside the block, whatever size it was
 // drawn at and however the block differs from the pattern's mean shape. An occurrence with
 // no area (a path, a fork) keeps its transform.
 template <class Crosses>
@@ -76,7 +75,8 @@ Similarity2 fitted_frame(const Similarity2& transform, const std::vector<Vec2>& 
         }
         if (!crossing) return frame;
     }
-    s = kFill * largest;
+    // Crossing at every size: the smallest tried, whose crossings become intersections.
+    s /= 0.8;
     return Similarity2{s, 0.0, centre - s * mean} * transform;
 }
 
@@ -89,15 +89,25 @@ std::size_t join_crossings(GeometricGraph& g, std::size_t first_new) {
     // its second half is added.
     spatial::IncrementalRTree<EdgeEntry> streets;
     for (std::size_t e = 0; e < g.edge_count(); ++e) streets.insert({spatial::edge_box(g, static_cast<EdgeId>(e)), static_cast<EdgeId>(e)});
+    // The streets to check: those the replacement added and the pieces split off them (not
+    // the pieces of the streets that stay, which may pass over others on a bridge).
+    std::vector<char> added(g.edge_count(), 0);
+    std::vector<EdgeId> work;
+    for (std::size_t e = first_new; e < g.edge_count(); ++e) {
+        added[e] = 1;
+        work.push_back(static_cast<EdgeId>(e));
+    }
     std::size_t made = 0;
     std::vector<EdgeEntry> near;
-    for (std::size_t e = first_new; e < g.edge_count(); ++e) {
+    for (std::size_t next = 0; next < work.size(); ++next) {
+        const EdgeId id = work[next];
+        const auto e = static_cast<std::size_t>(id);
         for (bool again = true; again;) {
             again = false;
-            const auto id = static_cast<EdgeId>(e);
             const Vec2 p = g.positions[static_cast<std::size_t>(g.edges[e][0])], q = g.positions[static_cast<std::size_t>(g.edges[e][1])];
             const double eps = 1e-9 * std::max(1.0, (q - p).norm());
-            // The first crossing along e, over every other street's pieces.
+            // The first crossing along e, over every other street's pieces (a street that shares
+            // an end with e may still cross it further on, if it bends).
             double best_t = 1.0;
             EdgeId best_f = -1;
             Vec2 where = Vec2::Zero();
@@ -105,8 +115,6 @@ std::size_t join_crossings(GeometricGraph& g, std::size_t first_new) {
             streets.query(spatial::bgi::intersects(spatial::around(p, q)), std::back_inserter(near));
             for (const auto& [box, f] : near) {
                 if (f == id) continue;
-                const auto [fa, fb] = g.edges[static_cast<std::size_t>(f)];
-                if (fa == g.edges[e][0] || fa == g.edges[e][1] || fb == g.edges[e][0] || fb == g.edges[e][1]) continue;
                 const Vec2* line = g.geometry_begin(f);
                 for (std::size_t k = 0; k + 1 < g.geometry_size(f); ++k) {
                     const auto m = segment_meeting(p, q, line[k], line[k + 1]);
@@ -123,11 +131,17 @@ std::size_t join_crossings(GeometricGraph& g, std::size_t first_new) {
             if (best_f < 0 || best_t >= 1.0 - eps) continue;
             // Split e, then f at the same point, and let f's two halves end at e's new vertex.
             const VertexId x = g.split_edge(id, where);
-            streets.insert({spatial::edge_box(g, static_cast<EdgeId>(g.edge_count() - 1)), static_cast<EdgeId>(g.edge_count() - 1)});
+            const auto tail = static_cast<EdgeId>(g.edge_count() - 1);
+            streets.insert({spatial::edge_box(g, tail), tail});
+            added.push_back(1);
+            work.push_back(tail);
             g.split_edge(best_f, where);
             g.edges[static_cast<std::size_t>(best_f)][1] = x;
             g.edges.back()[0] = x;
-            streets.insert({spatial::edge_box(g, static_cast<EdgeId>(g.edge_count() - 1)), static_cast<EdgeId>(g.edge_count() - 1)});
+            const auto f_tail = static_cast<EdgeId>(g.edge_count() - 1);
+            streets.insert({spatial::edge_box(g, f_tail), f_tail});
+            added.push_back(added[static_cast<std::size_t>(best_f)]);
+            if (added[static_cast<std::size_t>(best_f)]) work.push_back(f_tail);
             // The vertex the second split made is the last, and nothing refers to it any more.
             g.positions.pop_back();
             g.vertex_osm_ids.pop_back();
@@ -176,7 +190,7 @@ GeometricGraph replace_occurrences(const GeometricGraph& g, const Isogroup& grou
     // reaches. A vertex where streets of the surroundings meet stays, so that the streets
     // around keep their course, and the piece is joined to it. Its class is the most
     // important of the occurrence's streets there.
-    auto inside = [&](std::size_t e) {
+    auto own_street = [&](std::size_t e) {
         const std::int32_t oa = owner[static_cast<std::size_t>(g.edges[e][0])];
         return oa >= 0 && oa == owner[static_cast<std::size_t>(g.edges[e][1])];
     };
@@ -187,7 +201,7 @@ GeometricGraph replace_occurrences(const GeometricGraph& g, const Isogroup& grou
         for (const VertexId v : g.edges[e]) {
             const auto i = static_cast<std::size_t>(v);
             if (owner[i] < 0) continue;
-            if (!inside(e)) {
+            if (!own_street(e)) {
                 junction[i] = 1;
             } else if (highway_rank(g.edge_highway[e]) < join_rank[i]) {
                 join_rank[i] = highway_rank(g.edge_highway[e]);
@@ -227,7 +241,7 @@ GeometricGraph replace_occurrences(const GeometricGraph& g, const Isogroup& grou
         host.frames.back() = g.frames.empty() ? Similarity2::from(1, 0, g.positions[v]) : g.frames[v];
     }
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
-        if (inside(e)) continue;
+        if (own_street(e)) continue;
         const auto id = static_cast<EdgeId>(e);
         std::vector<Vec2> line(g.geometry_begin(id), g.geometry_begin(id) + g.geometry_size(id));
         host.add_edge(new_id[static_cast<std::size_t>(g.edges[e][0])], new_id[static_cast<std::size_t>(g.edges[e][1])], g.edge_attributes(id), line);

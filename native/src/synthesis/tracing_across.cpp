@@ -47,6 +47,7 @@ void Tracer::join_across() {
         // At the region's border (a street the region cut), not one that ends further out.
         const double enters = entry_distance(p, ahead, reach);
         if (enters < 0 || enters > 0.3 * typical_) continue;
+        if (inside(region_, p) && distance_to_ring(region_, p) > 0.3 * typical_) continue; // (deep inside)
         ends.push_back({id, ahead, g_.edge_highway[static_cast<std::size_t>(e)]});
     }
     // Pairs that face each other, the best aligned first.
