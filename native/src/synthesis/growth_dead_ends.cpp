@@ -8,7 +8,6 @@
 #include <tuple>
 
 #include "street_cleanup.hpp"
-#include "tracing_stages.hpp"
 
 namespace ggg::growth_detail {
 
@@ -36,16 +35,9 @@ void Grower::close_dead_ends() {
     // reaches the region is joined to what grew there, even where tracing could not carry
     // it on (two carriageways side by side, a street too close to another).
     std::vector<VertexId> loose;
-    std::vector<HighwayClass> end_class(base_vertices_, HighwayClass::other);
-    for (std::size_t e = 0; e < base_edges_; ++e) {
-        for (const VertexId x : g_.edges[e]) {
-            if (static_cast<std::size_t>(x) < base_vertices_) end_class[static_cast<std::size_t>(x)] = g_.edge_highway[e];
-        }
-    }
     for (std::size_t v = 0; v < base_vertices_; ++v) {
-        // Motorways, trunk roads and links are routes, not streets of a district (as in tracing):
-        // the main roads are continued afterwards.
-        if (adjacency_[v].size() != 1 || !tracing::traced_class(end_class[v])) continue;
+        // Of every class: a motorway the region cut goes on into what grew there too.
+        if (adjacency_[v].size() != 1) continue;
         const Vec2 p = g_.positions[v];
         const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(adjacency_[v][0])]).normalized();
         // Into the region, not along its border.
