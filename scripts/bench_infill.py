@@ -61,11 +61,21 @@ def inside(points, x0, y0, x1, y1):
     return (points[:, 0] >= x0) & (points[:, 0] <= x1) & (points[:, 1] >= y0) & (points[:, 1] <= y1)
 
 
-def clip_outside(line, x0, y0, x1, y1):
-    """The pieces of a polyline outside the rectangle, as (points, starts at the first point,
-    ends at the last point): where a piece leaves the line, it ends on the rectangle's border."""
-    def out(p):  # the border counts as outside, as in cut_hole
-        return not (x0 < p[0] < x1 and y0 < p[1] < y1)
+def kept_by(rect, keep_inside):
+    """Whether a point is on the kept side of the rectangle: outside it (its border counts as
+    outside), or with keep_inside inside it (its border counts as inside)."""
+    x0, y0, x1, y1 = rect
+    if keep_inside:
+        return lambda p: x0 <= p[0] <= x1 and y0 <= p[1] <= y1
+    return lambda p: not (x0 < p[0] < x1 and y0 < p[1] < y1)
+
+
+def clip(line, rect, keep_inside=False):
+    """The pieces of a polyline on the kept side of the rectangle (kept_by), as (points, starts
+    at the first point, ends at the last point): where a piece leaves the line, it ends on the
+    rectangle's border."""
+    x0, y0, x1, y1 = rect
+    out = kept_by(rect, keep_inside)
 
     def crossing(a, b):
         # The parameters t in (0, 1) where segment ab meets the rectangle's border, in order.
@@ -123,29 +133,30 @@ def crosses_hole(graph, hole):
     offsets, points = graph.edge_geometry()
     taken = np.zeros(graph.edge_count, dtype=bool)
     for e in range(graph.edge_count):
-        pieces = clip_outside(points[offsets[e]:offsets[e + 1]], *hole)
+        pieces = clip(points[offsets[e]:offsets[e + 1]], hole)
         taken[e] = not (len(pieces) == 1 and pieces[0][1] and pieces[0][2])
     return taken
 
 
-def cut_hole(graph, hole):
-    """The city with the square hole cut out, as a knife would: every street that crosses the
-    hole's border is cut there and keeps its part outside, which ends at the border. Returns
-    the rest and, per vertex of the graph, its index in the rest (-1 inside), and the vertices
-    of the rest where the cut left a street's end (the severed streets)."""
+def cut(graph, rect, keep_inside=False):
+    """The graph cut along the rectangle as a knife would, keeping what is outside it (or with
+    keep_inside what is inside): every street that crosses the border is cut there and keeps
+    its part on the kept side, which ends at the border. Returns the cut graph, per vertex of
+    the graph its index there (-1 where not kept), and the vertices where the cut left a
+    street's end."""
     p = graph.positions
-    x0, y0, x1, y1 = hole
-    in_hole = (p[:, 0] > x0) & (p[:, 0] < x1) & (p[:, 1] > y0) & (p[:, 1] < y1)  # a vertex on the border stays
+    keep = kept_by(rect, keep_inside)
+    kept = np.array([keep(q) for q in p], dtype=bool)
     edges = np.asarray(graph.edges, dtype=np.int64)
     offsets, points = graph.edge_geometry()
     index = np.full(graph.vertex_count, -1, dtype=np.int64)
-    index[~in_hole] = np.arange(int((~in_hole).sum()))
-    positions = list(p[~in_hole])
+    index[kept] = np.arange(int(kept.sum()))
+    positions = list(p[kept])
     new_edges, lines, classes, ends = [], [], [], []
     highway = np.asarray(graph.edge_highway)
     for e, (a, b) in enumerate(edges):
         line = points[offsets[e]:offsets[e + 1]]
-        pieces = clip_outside(line, *hole)
+        pieces = clip(line, rect, keep_inside)
         if len(pieces) == 1 and pieces[0][1] and pieces[0][2]:
             new_edges.append((index[a], index[b]))
             lines.append(line)
@@ -153,22 +164,25 @@ def cut_hole(graph, hole):
             continue
         for piece, starts, finishes in pieces:
             if starts == finishes:
-                continue  # the whole line outside (handled above) or a piece touching neither end
+                continue  # the whole line kept (handled above) or a piece touching neither end
             end = len(positions)
             positions.append(piece[-1] if starts else piece[0])
             ends.append(end)
-            if starts:
-                new_edges.append((index[a], end))
-                lines.append(piece)
-            else:
-                new_edges.append((end, index[b]))
-                lines.append(piece)
+            new_edges.append((index[a], end) if starts else (end, index[b]))
+            lines.append(piece)
             classes.append(highway[e])
     new_offsets = np.concatenate([[0], np.cumsum([len(line) for line in lines])]).astype(np.int64)
-    rest = ggg.Graph.from_arrays(np.asarray(positions), np.asarray(new_edges, dtype=np.int64).reshape(-1, 2),
-                                 graph.origin_latlon, edge_highway=np.asarray(classes),
-                                 edge_geometry=(new_offsets, np.concatenate(lines)))
-    return rest, index, np.asarray(ends, dtype=np.int64)
+    result = ggg.Graph.from_arrays(np.asarray(positions), np.asarray(new_edges, dtype=np.int64).reshape(-1, 2),
+                                   graph.origin_latlon, edge_highway=np.asarray(classes),
+                                   edge_geometry=(new_offsets, np.concatenate(lines)))
+    return result, index, np.asarray(ends, dtype=np.int64)
+
+
+def cut_hole(graph, hole):
+    """The city with the square hole cut out (cut): the rest, per vertex its index in the rest
+    (-1 inside), and the vertices of the rest where the cut left a street's end (the severed
+    streets)."""
+    return cut(graph, hole)
 
 
 def components(n, edges):

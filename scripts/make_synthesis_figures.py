@@ -34,64 +34,23 @@ try:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import LineCollection
+
+    sys.path.insert(0, str(REPO / "scripts"))
+    import bench_infill  # the knife cut of the infill test
 except ImportError as e:
     sys.exit(f"error: {e}; build the ggg module and install python3-numpy and python3-matplotlib")
 
 
 def cut_to_box(graph, lo, hi, shift=(0.0, 0.0)):
-    """The part of `graph` inside the box lo..hi, cut as a knife would (a street that crosses the
-    box's border keeps its part inside, which ends there in a new dead end), moved by `shift`.
-    Returns the graph and the ids of those new dead ends."""
-    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
-    p = graph.positions
-    inside = np.all((p >= lo) & (p <= hi), axis=1)
-    index = -np.ones(len(p), dtype=np.int64)
-    index[inside] = np.arange(inside.sum())
-    positions = list(p[inside])
-    offsets, points = graph.edge_geometry()
-    edges, lines, classes, ends = [], [], [], []
-
-    def inside_until(line):
-        """The line from its first point while it stays in the box, ending on the border."""
-        kept = [line[0]]
-        for a, b in zip(line[:-1], line[1:]):
-            if np.all((b >= lo) & (b <= hi)):
-                kept.append(b)
-                continue
-            d = b - a
-            t = 1.0
-            for axis in (0, 1):
-                for edge in (lo[axis], hi[axis]):
-                    if d[axis] != 0 and 0 <= (edge - a[axis]) / d[axis] < t:
-                        t = (edge - a[axis]) / d[axis]
-            kept.append(a + t * d)
-            return np.array(kept), True
-        return np.array(kept), False
-
-    for e, (a, b) in enumerate(graph.edges):
-        line = points[offsets[e]:offsets[e + 1]]
-        if inside[a] and inside[b] and np.all(np.all((line >= lo) & (line <= hi), axis=1)):
-            edges.append((index[a], index[b]))
-            lines.append(line)
-            classes.append(graph.edge_highway[e])
-            continue
-        for start, line_from in ((a, line), (b, line[::-1])):
-            if not inside[start]:
-                continue
-            piece, cut = inside_until(line_from)
-            if not cut or len(piece) < 2:
-                continue
-            ends.append(len(positions))
-            positions.append(piece[-1])
-            edges.append((index[start], ends[-1]))
-            lines.append(piece)
-            classes.append(graph.edge_highway[e])
+    """The part of `graph` inside the box lo..hi, cut as a knife would (bench_infill.cut: a
+    street that crosses the box's border keeps its part inside, which ends there in a new dead
+    end), moved by `shift`. Returns the graph and the ids of those new dead ends."""
+    part, _, ends = bench_infill.cut(graph, (lo[0], lo[1], hi[0], hi[1]), keep_inside=True)
+    offsets, points = part.edge_geometry()
     shift = np.asarray(shift, dtype=float)
-    new_offsets = np.concatenate([[0], np.cumsum([len(line) for line in lines])]).astype(np.int64)
-    cut = ggg.Graph.from_arrays(np.asarray(positions) + shift, np.asarray(edges, dtype=np.int64).reshape(-1, 2),
-                                graph.origin_latlon, edge_highway=np.asarray(classes),
-                                edge_geometry=(new_offsets, np.concatenate(lines) + shift))
-    return cut, np.asarray(ends, dtype=np.int64)
+    moved = ggg.Graph.from_arrays(part.positions + shift, np.asarray(part.edges), part.origin_latlon,
+                                  edge_highway=np.asarray(part.edge_highway), edge_geometry=(offsets, points + shift))
+    return moved, ends
 
 
 def draw(ax, graph, first_edge=0, last_edge=None, colour="#222222", lw=0.8):
@@ -206,9 +165,6 @@ def stitch_figure(out):
 
 
 def infill_figure(out):
-    sys.path.insert(0, str(REPO / "scripts"))
-    import bench_infill
-
     cities = [("paris_marais.osm.pbf", "the Marais, Paris"), ("columbus_oh.osm.pbf", "Columbus, Ohio"),
               ("monaco.osm.pbf", "Monaco")]
     fig, axes = plt.subplots(len(cities), 2, figsize=(11, 5.6 * len(cities)))

@@ -35,6 +35,13 @@ void Grower::close_dead_ends() {
     // reaches the region is joined to what grew there, even where tracing could not carry
     // it on (two carriageways side by side, a street too close to another).
     std::vector<VertexId> loose;
+    // The class of the (last) street at each vertex of the base, for the street that joins it.
+    std::vector<HighwayClass> base_class(base_vertices_, g_.edge_highway[g_.edge_count() - 1]);
+    for (std::size_t e = 0; e < g_.edge_count(); ++e) {
+        for (const VertexId x : g_.edges[e]) {
+            if (static_cast<std::size_t>(x) < base_vertices_) base_class[static_cast<std::size_t>(x)] = g_.edge_highway[e];
+        }
+    }
     for (std::size_t v = 0; v < base_vertices_; ++v) {
         // Of every class: a motorway the region cut goes on into what grew there too.
         if (adjacency_[v].size() != 1) continue;
@@ -80,8 +87,12 @@ void Grower::close_dead_ends() {
         }
         EdgeAttributes attributes;
         attributes.highway = g_.edge_highway[g_.edge_count() - 1];
-        for (std::size_t e = v < base_vertices_ ? 0 : base_edges_; e < g_.edge_count(); ++e) {
-            if (g_.edges[e][0] == static_cast<VertexId>(v) || g_.edges[e][1] == static_cast<VertexId>(v)) attributes.highway = g_.edge_highway[e];
+        if (from_base) {
+            attributes.highway = base_class[v];
+        } else {
+            for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) {
+                if (g_.edges[e][0] == static_cast<VertexId>(v) || g_.edges[e][1] == static_cast<VertexId>(v)) attributes.highway = g_.edge_highway[e];
+            }
         }
         if (best < 0) {
             // No vertex ahead: the grown street ahead, if there is one, gets a T-junction; a

@@ -57,21 +57,23 @@ void Tracer::open_end(const Street& s, const std::vector<Vec2>& line, const Exam
     add_street(s.from, v, line, s.highway);
     if (!example) return;
     const double arriving = angle_of(line.back() - line[line.size() - 2]);
-    for (const Branch& b : example->branches) {
-        Street next;
-        next.from = v;
-        next.heading = arriving + (mirror ? -b.turn : b.turn);
-        next.length = b.length;
-        next.shape = b.shape;
-        if (mirror) {
-            for (Vec2& q : next.shape) q.y() = -q.y();
-        }
-        next.highway = b.keeps_class ? s.highway : b.highway;
-        next.main = main_class(next.highway);
-        next.generation = s.generation + 1;
-        next.order = order_++;
-        queue_.push(std::move(next));
+    for (const Branch& b : example->branches) queue_branch(v, arriving, b, mirror, s.highway, s.generation + 1);
+}
+
+void Tracer::queue_branch(VertexId from, double arriving, const Branch& branch, bool mirror, HighwayClass own, std::size_t generation) {
+    Street next;
+    next.from = from;
+    next.heading = arriving + (mirror ? -branch.turn : branch.turn);
+    next.length = branch.length;
+    next.shape = branch.shape;
+    if (mirror) {
+        for (Vec2& q : next.shape) q.y() = -q.y();
     }
+    next.highway = branch.keeps_class ? own : branch.highway;
+    next.main = main_class(next.highway);
+    next.generation = generation;
+    next.order = order_++;
+    queue_.push(std::move(next));
 }
 
 void Tracer::retry(const Street& s) {

@@ -194,20 +194,7 @@ void Tracer::open_junctions(const Across& street) {
         chain.insert(next, {at, x});
         const bool mirror = std::bernoulli_distribution(0.5)(rng_);
         for (const Branch& br : example->branches) {
-            if (&br == on) continue;
-            Street side;
-            side.from = x;
-            side.heading = angle_of(u) + (mirror ? -br.turn : br.turn);
-            side.length = br.length;
-            side.shape = br.shape;
-            if (mirror) {
-                for (Vec2& q : side.shape) q.y() = -q.y();
-            }
-            side.highway = br.keeps_class ? street.highway : br.highway;
-            side.main = main_class(side.highway);
-            side.generation = 1;
-            side.order = order_++;
-            queue_.push(std::move(side));
+            if (&br != on) queue_branch(x, angle_of(u), br, mirror, street.highway, 1);
         }
     }
 }

@@ -250,6 +250,10 @@ private:
 
     // ---- tracing (street_tracing.cpp) ------------------------------------------------------
 
+    // The street that leaves the junction `from` as `branch` does, seen from a street arriving
+    // along `arriving` (radians) of class `own`, mirrored or not; queued for tracing.
+    void queue_branch(VertexId from, double arriving, const Branch& branch, bool mirror, HighwayClass own, std::size_t generation);
+
     // A new junction at the end of `line`, shaped like `example` (none: a dead end).
     void open_end(const Street& s, const std::vector<Vec2>& line, const Example* example, bool mirror);
 
