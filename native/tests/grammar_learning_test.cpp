@@ -352,9 +352,14 @@ TEST(GrammarLearning, BadInputIsAClearError) {
     EXPECT_THROW(decode_grammar(sierpinski), GrammarError);
 }
 
-TEST(GrammarLearning, MalformedEncodingsNameThePlace) {
-    const Grammar good = learn_grammar(test::make_grid({})).grammar;
+// A learned grammar with a value off the packed units is written in the column form of
+// version 1, which the reader still takes.
+TEST(GrammarLearning, MalformedColumnEncodingsNameThePlace) {
+    Grammar good = learn_grammar(test::make_grid({})).grammar;
     ASSERT_GT(good.encoding.instances.size(), 2u);
+    good.encoding.instances[0].shift.x() += 1e-12; // off the quantum: cannot be packed
+    ASSERT_EQ(grammar_to_json(good)["version"], 1);
+    EXPECT_EQ(grammar_from_json(grammar_to_json(good), "good.json"), good);
     auto expect_error = [&](auto edit, const std::string& where) {
         nlohmann::json doc = grammar_to_json(good);
         edit(doc);
@@ -380,6 +385,44 @@ TEST(GrammarLearning, MalformedEncodingsNameThePlace) {
     expect_error([](nlohmann::json& d) { d["encoding"]["instances"]["embedding"][0] = nlohmann::json::array({99, 0.0, 0.0, 6}); }, "rule vertex out of range");
     expect_error([](nlohmann::json& d) { d["encoding"]["mode"] = "zip"; }, "encoding.mode");
     expect_error([](nlohmann::json& d) { d["encoding"]["instances"]["symbol"][0] = 0; }, "encoding.instances.symbol");
+}
+
+// The packed form (version 2) reads back to exactly the grammar, as JSON and as CBOR, and
+// every damage is an error naming its column.
+TEST(GrammarLearning, PackedEncodingsReadBackAndNameThePlaceOfDamage) {
+    LearnOptions lossless;
+    lossless.lossless = true;
+    const Grammar good = learn_grammar(test::make_grid({}), lossless).grammar;
+    ASSERT_GT(good.encoding.instances.size(), 2u);
+    const nlohmann::json packed = grammar_to_json(good);
+    ASSERT_EQ(packed["version"], 2);
+    EXPECT_EQ(grammar_from_json(packed, "good.json"), good);
+    EXPECT_EQ(parse_grammar(grammar_bytes_text(good, true), "good.cbor"), good);
+    EXPECT_EQ(parse_grammar(grammar_bytes_text(good, false), "good.json"), good);
+    EXPECT_LT(grammar_bytes_text(good, true).size(), grammar_bytes_text(good, false).size());
+    auto expect_error = [&](auto edit, const std::string& where) {
+        nlohmann::json doc = packed;
+        edit(doc);
+        try {
+            grammar_from_json(doc, "bad.json");
+            ADD_FAILURE() << "no error for " << where;
+        } catch (const GrammarError& e) {
+            EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << where << ": " << e.what();
+        }
+    };
+    expect_error([](nlohmann::json& d) { d["axiom"]["nonterminals"].back() = 100000; }, "axiom.nonterminals");
+    expect_error([](nlohmann::json& d) { d["encoding"]["correction"].erase(0); }, "encoding.correction");
+    expect_error([](nlohmann::json& d) { d["encoding"]["residuals"].erase(0); }, "encoding.residuals");
+    expect_error([](nlohmann::json& d) { d["encoding"]["shift"].push_back(0); }, "encoding.shift");
+    expect_error([](nlohmann::json& d) { d["encoding"]["residuals"][0] = 0.5; }, "must be an integer");
+    expect_error([](nlohmann::json& d) { d["encoding"]["embedding"][0] = 5; }, "encoding.embedding"); // five links claimed
+    expect_error([](nlohmann::json& d) { d["encoding"]["mode"] = "zip"; }, "encoding.mode");
+    expect_error([](nlohmann::json& d) { d["rules"]["symbol"][0] = 999; }, "rules.symbol");
+    expect_error([](nlohmann::json& d) { d["rules"]["uses"].push_back(1); }, "rules.uses");
+    // Damaged CBOR bytes: cut short, and nested past the bound.
+    const std::string cbor = grammar_bytes_text(good, true);
+    EXPECT_THROW(parse_grammar(cbor.substr(0, cbor.size() / 2), "cut.cbor"), GrammarError);
+    EXPECT_THROW(parse_grammar(std::string(1, '\xa1') + std::string(1, '\x61') + "a" + std::string(100000, '\x81'), "deep.cbor"), GrammarError);
 }
 
 } // namespace ggg

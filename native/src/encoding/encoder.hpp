@@ -48,9 +48,18 @@ inline double round_significant(double x, int digits) {
 inline Complex linear(const Similarity2& s) { return {s.a, s.b}; }
 
 // Frames the derivation corrects afterwards (the axiom's, the rules' T_i) need few digits;
-// an instance's correction is what places it, to about 1e-7 of its size.
-inline Frame frame_of(Complex z) { return {round_significant(std::abs(z), 4), round_to(std::arg(z) * 180.0 / M_PI, 100)}; }
-inline Frame correction_of(Complex z) { return {round_significant(std::abs(z), 7), round_to(std::arg(z) * 180.0 / M_PI, 1e5)}; }
+// an instance's correction is what places it, to about 1e-6 of its size. The steps are the
+// fixed units of the packed grammar file (io/grammar_packing.cpp).
+inline Frame frame_of(Complex z) { return {std::max(round_to(std::abs(z), 1e4), 1e-4), round_to(std::arg(z) * 180.0 / M_PI, 100)}; }
+inline Frame correction_of(Complex z) { return {std::max(round_to(std::abs(z), 1e6), 1e-6), round_to(std::arg(z) * 180.0 / M_PI, 1e4)}; }
+
+// 1 / quantum as the exact power of ten (1.0 / 1e-6 is not exactly 1e6).
+inline double inverse_of(double quantum) { return std::pow(10.0, std::round(-std::log10(quantum))); }
+
+// The one-digit decimal m × 10^e, computed as the packed grammar file reads it back.
+inline double one_digit_decimal(double mantissa, int exponent) {
+    return exponent >= 0 ? mantissa * std::pow(10.0, exponent) : mantissa / std::pow(10.0, -exponent);
+}
 
 // A vertex of a level's graph: a street vertex of the input, or a nonterminal standing for
 // an instance.
@@ -125,6 +134,11 @@ private:
     // The next level's graph: every occurrence replaced by its nonterminal, joined to what
     // the occurrence was joined to (the most important class where several streets merge).
     void contract(const std::vector<std::int32_t>& level_instances, const std::vector<char>& used);
+
+    // Numbers the instances in the order the derivation meets them (the axiom's
+    // nonterminals, then level by level the nonterminals each instance places), the order
+    // the packed grammar file implies, so that a learned grammar reads back as it was made.
+    void number_in_derivation_order();
 
     // Rules, the axiom (the last level's graph) and the instance skeletons.
     Grammar build_grammar();

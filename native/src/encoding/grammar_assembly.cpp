@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -34,6 +35,38 @@ double closest_pair_distance(const std::vector<Vec2>& positions) {
 }
 
 } // namespace
+
+void Encoder::number_in_derivation_order() {
+    std::vector<std::int32_t> order; // new number -> old
+    order.reserve(instances_.size());
+    for (const Node& n : nodes_) {
+        if (n.nonterminal) order.push_back(n.id);
+    }
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        for (const Node& m : instances_[static_cast<std::size_t>(order[k])].members) {
+            if (m.nonterminal) order.push_back(m.id);
+        }
+    }
+    if (order.size() != instances_.size()) return; // not a tree below the axiom: keep the numbers
+    std::vector<std::int32_t> renumber(instances_.size());
+    for (std::size_t k = 0; k < order.size(); ++k) renumber[static_cast<std::size_t>(order[k])] = static_cast<std::int32_t>(k);
+    auto permute = [&](auto& per_instance) {
+        std::remove_reference_t<decltype(per_instance)> reordered;
+        reordered.reserve(per_instance.size());
+        for (const std::int32_t old : order) reordered.push_back(std::move(per_instance[static_cast<std::size_t>(old)]));
+        per_instance = std::move(reordered);
+    };
+    permute(instances_);
+    permute(encoded_);
+    auto fix = [&](Node& n) {
+        if (n.nonterminal) n.id = renumber[static_cast<std::size_t>(n.id)];
+    };
+    for (Node& n : nodes_) fix(n);
+    for (InstanceDraft& d : instances_) {
+        for (Node& m : d.members) fix(m);
+        if (d.parent >= 0) d.parent = renumber[static_cast<std::size_t>(d.parent)];
+    }
+}
 
 Grammar Encoder::build_grammar() {
     Grammar g;
@@ -80,7 +113,7 @@ Grammar Encoder::build_grammar() {
     for (std::size_t v = 0; v < graph_.vertex_count(); ++v) {
         const Node& n = nodes_[v];
         AxiomVertex av;
-        av.position = round_to(graph_.positions[v], 1.0 / options_.quantum_m);
+        av.position = round_to(graph_.positions[v], inverse_of(options_.quantum_m));
         av.symbol = graph_.symbols[v];
         if (n.nonterminal) av.frame = frame_of(linear(graph_.frames[v]));
         else axiom_index_[static_cast<std::size_t>(n.id)] = static_cast<std::int32_t>(v);
@@ -100,7 +133,7 @@ Grammar Encoder::build_grammar() {
 
 void Encoder::simulate(Grammar& grammar) {
     Encoding& enc = grammar.encoding;
-    const double inverse_quantum = 1.0 / options_.quantum_m;
+    const double inverse_quantum = inverse_of(options_.quantum_m);
     decoded_.assign(input_.vertex_count(), Vec2::Zero());
     placed_.assign(input_.vertex_count(), 0);
     effective_.assign(instances_.size(), Similarity2{});
@@ -244,8 +277,8 @@ void Encoder::embed(Grammar& grammar) {
         const double half = 0.5 * r;
         double tolerance = enc.tolerance_m;
         if (std::isfinite(half) && half > enc.tolerance_m) {
-            const double unit = std::pow(10.0, std::floor(std::log10(half)));
-            tolerance = std::floor(half / unit) * unit; // rounded down to one digit
+            const int exponent = static_cast<int>(std::floor(std::log10(half)));
+            tolerance = one_digit_decimal(std::min(9.0, std::floor(half / std::pow(10.0, exponent))), exponent); // rounded down to one digit
         }
         if (tolerance > enc.tolerance_m) ri.tolerance_m = tolerance;
         const Similarity2& f = effective_[i];

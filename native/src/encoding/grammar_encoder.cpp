@@ -39,6 +39,7 @@ LearnResult Encoder::run() {
     if (options_.complete && graph_.vertex_count() > 1) encode_rest(level);
     report(progress_, 0.92, "building the grammar");
     result_.axiom_edges = graph_.edge_count();
+    number_in_derivation_order();
     Grammar grammar = build_grammar();
     report(progress_, 0.94, "computing each instance's frame and residuals");
     simulate(grammar);

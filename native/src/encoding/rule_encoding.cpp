@@ -148,7 +148,7 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
     std::vector<Vec2> shape(k);
     for (std::size_t j = 0; j < k; ++j) {
         RuleVertex rv;
-        rv.position = round_to(group.pattern.positions[j] - origin, 1e7);
+        rv.position = round_to(group.pattern.positions[j] - origin, 1e4);
         rv.symbol = group.pattern.symbols[j];
         rv.transform = rv.symbol ? transforms[j] : Frame{};
         shape[j] = rv.position;
@@ -198,7 +198,7 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
     std::vector<double> sizes;
     for (std::size_t c = instances_.size() - occs.size(); c < instances_.size(); ++c) sizes.push_back(instances_[c].fit.scale());
     std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
-    draft.rule.size_m = round_significant(sizes[sizes.size() / 2], 4);
+    draft.rule.size_m = round_to(sizes[sizes.size() / 2], 100);
     lr.instances += occs.size();
     ++lr.rules;
     rules_.push_back(std::move(draft));

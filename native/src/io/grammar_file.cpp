@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ggg/error.hpp"
+#include "grammar_packing.hpp"
 #include "json_util.hpp"
 
 namespace ggg {
@@ -93,6 +94,10 @@ json encoding_json(const Encoding& enc) {
 } // namespace
 
 json grammar_to_json(const Grammar& g) {
+    // A learned grammar is data: packed (version 2) wherever its values fit the packed units.
+    if (!g.encoding.empty()) {
+        if (auto packed = io_detail::pack_grammar(g)) return std::move(*packed);
+    }
     json rules = json::array();
     for (const Rule& r : g.rules) {
         json vertices = json::array();
@@ -136,7 +141,7 @@ json grammar_to_json(const Grammar& g) {
     }
     json doc = {
         {"format", "ggg-grammar"},
-        {"version", grammar_file_version},
+        {"version", 1},
         {"name", g.name},
         {"origin_latlon", {g.origin.lat, g.origin.lon}},
         {"symbols", g.symbol_names},
@@ -284,6 +289,7 @@ Grammar grammar_from_json(const json& doc, const std::string& name) {
         r.fail("version", std::to_string(version.get<std::int64_t>()) + " is newer than this program reads (" +
                               std::to_string(grammar_file_version) + "); update ggg");
     }
+    if (version.get<std::int64_t>() == io_detail::packed_grammar_version) return io_detail::unpack_grammar(doc, name);
     Grammar g;
     if (const json* n = r.optional(doc, "name")) {
         if (!n->is_string()) r.fail("name", "must be a string");
@@ -411,6 +417,7 @@ Grammar grammar_from_json(const json& doc, const std::string& name) {
 }
 
 Grammar parse_grammar(const std::string& text, const std::string& name) {
+    if (io_detail::looks_like_cbor(text)) return grammar_from_json(io_detail::parse_cbor(text, name), name);
     return grammar_from_json(io_detail::parse<GrammarError>(text, name), name);
 }
 
@@ -418,10 +425,24 @@ Grammar read_grammar(const std::string& path) {
     return parse_grammar(io_detail::read_json_text<GrammarError>(path), path);
 }
 
-void write_grammar(const Grammar& grammar, const std::string& path) {
+bool is_cbor_path(const std::string& path) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    return ext == ".cbor" || ext == ".CBOR";
+}
+
+std::string grammar_bytes_text(const Grammar& grammar, bool cbor) {
+    const json doc = grammar_to_json(grammar);
+    if (cbor) {
+        const std::vector<std::uint8_t> bytes = json::to_cbor(doc);
+        return std::string(bytes.begin(), bytes.end());
+    }
     // A hand-written grammar is for reading; a learned one is data, written compactly.
-    const std::string text = io_detail::dump(grammar_to_json(grammar), grammar.encoding.empty() ? 1 : -1);
-    io_detail::write_file(path, [&](std::ostream& out) { out << text << '\n'; });
+    return io_detail::dump(doc, grammar.encoding.empty() ? 1 : -1) + '\n';
+}
+
+void write_grammar(const Grammar& grammar, const std::string& path) {
+    const std::string bytes = grammar_bytes_text(grammar, is_cbor_path(path));
+    io_detail::write_file(path, [&](std::ostream& out) { out << bytes; });
 }
 
 } // namespace ggg

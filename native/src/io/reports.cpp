@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ggg/io/grammar_file.hpp"
+#include "grammar_packing.hpp"
 #include "json_util.hpp"
 
 namespace ggg {
@@ -97,6 +98,18 @@ nlohmann::json growth_report_json(const GrowReport& r) {
 }
 
 
+namespace {
+
+nlohmann::json bytes_report(const GeometricGraph& input, const Grammar& g) {
+    const double quantum = g.encoding.quantum_m > 0 ? g.encoding.quantum_m : LearnOptions{}.quantum_m;
+    return {{"original", graph_structure_bytes(input, quantum)},
+            {"encoded", grammar_bytes(g)},
+            {"original_cbor", graph_structure_bytes(input, quantum, true)},
+            {"encoded_cbor", grammar_bytes(g, true)}};
+}
+
+} // namespace
+
 nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& result) {
     nlohmann::json levels = nlohmann::json::array();
     for (const LevelReport& l : result.levels) {
@@ -121,7 +134,7 @@ nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& resu
         {"stopped_by_budget", result.stopped_by_budget},
         {"axiom", {{"vertices", g.axiom_vertices.size()}, {"edges", result.axiom_edges}}},
         {"seconds", {{"analysis", result.analysis_seconds}, {"encoding", result.encoding_seconds}}},
-        {"bytes", {{"original", graph_structure_bytes(input, g.encoding.quantum_m > 0 ? g.encoding.quantum_m : LearnOptions{}.quantum_m)}, {"encoded", grammar_bytes(g)}}},
+        {"bytes", bytes_report(input, g)},
         {"roundtrip",
          {{"edges_equal", rt.edges_equal},
           {"classes_equal", rt.classes_equal},
@@ -134,31 +147,12 @@ nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& resu
     };
 }
 
-std::size_t graph_structure_bytes(const GeometricGraph& g, double quantum_m) {
-    // Rounded as the grammar file rounds its positions: the double nearest a short decimal.
-    const double inverse = std::pow(10.0, std::round(-std::log10(quantum_m)));
-    auto round_to = [](double x, double inverse_step) {
-        const double r = std::round(x * inverse_step) / inverse_step;
-        return r == 0.0 ? 0.0 : r;
-    };
-    nlohmann::json x = nlohmann::json::array(), y = nlohmann::json::array(), u = nlohmann::json::array(),
-                   v = nlohmann::json::array(), highway = nlohmann::json::array();
-    for (const Vec2& p : g.positions) {
-        x.push_back(round_to(p.x(), inverse));
-        y.push_back(round_to(p.y(), inverse));
-    }
-    for (std::size_t e = 0; e < g.edge_count(); ++e) {
-        u.push_back(g.edges[e][0]);
-        v.push_back(g.edges[e][1]);
-        highway.push_back(static_cast<int>(g.edge_highway[e]));
-    }
-    const nlohmann::json doc = {{"origin_latlon", {g.origin.lat, g.origin.lon}},
-                                {"vertices", {{"x", std::move(x)}, {"y", std::move(y)}}},
-                                {"edges", {{"u", std::move(u)}, {"v", std::move(v)}, {"highway", std::move(highway)}}}};
-    return io_detail::dump(doc).size() + 1;
+std::size_t graph_structure_bytes(const GeometricGraph& g, double quantum_m, bool cbor) {
+    const nlohmann::json doc = io_detail::pack_graph(g, quantum_m);
+    return cbor ? nlohmann::json::to_cbor(doc).size() : io_detail::dump(doc).size() + 1;
 }
 
-std::size_t grammar_bytes(const Grammar& grammar) { return io_detail::dump(grammar_to_json(grammar)).size() + 1; }
+std::size_t grammar_bytes(const Grammar& grammar, bool cbor) { return grammar_bytes_text(grammar, cbor).size(); }
 
 namespace {
 

@@ -10,13 +10,21 @@
 
 namespace ggg {
 
-inline constexpr int grammar_file_version = 1;
+// Version 1: the readable form (rules and axiom as objects; a learned grammar's instances as
+// columns of decimals). Version 2: the packed form of a learned grammar (integers in fixed
+// units, docs/grammar-format.md), written as JSON text or, for a path ending in ".cbor", as
+// CBOR. The reader takes both versions in either encoding.
+inline constexpr int grammar_file_version = 2;
 
 nlohmann::json grammar_to_json(const Grammar& grammar);
 // Throws GrammarError naming the place of the problem ("rules[0].vertices[2].symbol: unknown symbol 'Q'").
 Grammar grammar_from_json(const nlohmann::json& document, const std::string& name);
 
 void write_grammar(const Grammar& grammar, const std::string& path);
+// True for a path ending in ".cbor": write_grammar writes CBOR there.
+bool is_cbor_path(const std::string& path);
+// The bytes write_grammar would write: JSON text (with its newline) or CBOR.
+std::string grammar_bytes_text(const Grammar& grammar, bool cbor);
 Grammar read_grammar(const std::string& path);
 Grammar parse_grammar(const std::string& text, const std::string& name);
 

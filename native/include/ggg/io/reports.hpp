@@ -52,11 +52,12 @@ nlohmann::json replacement_report_json(const ReplaceReport& report);
 // rules, instances, levels, axiom, seconds (analysis, encoding), bytes, roundtrip, per_level.
 nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& result);
 
-// The sizes `ggg learn` compares (docs/learning.md#size), both written by the same JSON
-// writer without indentation: a graph as columns of what a grammar keeps (positions rounded
-// to `quantum_m`, edges, road classes), and a grammar file as write_grammar writes it.
-std::size_t graph_structure_bytes(const GeometricGraph& graph, double quantum_m = LearnOptions{}.quantum_m);
-std::size_t grammar_bytes(const Grammar& grammar);
+// The sizes `ggg learn` compares (docs/learning.md#size), in the same kind of encoding: a
+// graph as packed columns of what a grammar keeps (positions in quanta and delta-coded,
+// edges, road classes), and a grammar file as write_grammar writes it; each as JSON text
+// (with its newline) or as CBOR.
+std::size_t graph_structure_bytes(const GeometricGraph& graph, double quantum_m = LearnOptions{}.quantum_m, bool cbor = false);
+std::size_t grammar_bytes(const Grammar& grammar, bool cbor = false);
 
 // `ggg compare`'s output: {"distances": {degree, edge_length, orientation, block_area, mean,
 // junction_angle}, "a": summary, "b": summary} with vertices, edges, mean degree, median edge

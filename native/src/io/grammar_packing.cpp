@@ -1,0 +1,570 @@
+#include "grammar_packing.hpp"
+
+#include <climits>
+#include <cmath>
+#include <deque>
+
+#include "ggg/error.hpp"
+#include "ggg/io/grammar_file.hpp"
+#include "json_util.hpp"
+
+namespace ggg::io_detail {
+
+using nlohmann::json;
+
+namespace {
+
+// The fixed units of the packed form, as inverse steps (a value is stored as the integer
+// count of steps). Each is the rounding the encoder applies when it makes the value.
+constexpr double rule_unit = 1e4;          // rule positions and embedding points, rule units
+constexpr double frame_scale_unit = 1e4;   // scales of T_i and of the axiom's frames
+constexpr double frame_degree_unit = 100;  // their rotations
+constexpr double correction_scale_unit = 1e6;
+constexpr double correction_degree_unit = 1e4;
+constexpr double size_unit = 100; // a rule's size_m, in centimetres
+
+} // namespace
+
+double from_steps(std::int64_t k, double inverse) {
+    if (inverse >= 1.0) return static_cast<double>(k) / inverse;
+    return static_cast<double>(k) * std::round(1.0 / inverse);
+}
+
+namespace {
+
+// The value `x` as a count of steps of 1/inverse (inverse a power of ten), when that count
+// reads back to exactly x.
+std::optional<std::int64_t> steps(double x, double inverse) {
+    if (!std::isfinite(x) || std::abs(x * inverse) > 9e15) return std::nullopt;
+    const auto k = std::llround(x * inverse);
+    if (from_steps(k, inverse) != x) return std::nullopt;
+    return k;
+}
+
+// A one-digit decimal m × 10^e (the tolerances), coded as one small integer.
+double one_digit_decimal(int mantissa, int exponent) {
+    return exponent >= 0 ? mantissa * std::pow(10.0, exponent) : mantissa / std::pow(10.0, -exponent);
+}
+std::optional<std::int64_t> tolerance_code(double t) {
+    if (t == 0.0) return 0;
+    if (!(t > 0) || !std::isfinite(t)) return std::nullopt;
+    const int e = static_cast<int>(std::floor(std::log10(t)));
+    for (int exponent : {e - 1, e, e + 1}) {
+        const auto m = static_cast<int>(std::llround(t / std::pow(10.0, exponent)));
+        if (m >= 1 && m <= 9 && exponent >= -30 && exponent <= 30 && one_digit_decimal(m, exponent) == t) return (exponent + 31) * 10 + m;
+    }
+    return std::nullopt;
+}
+
+class Packer {
+public:
+    explicit Packer(const Grammar& g) : g_(g) {}
+
+    std::optional<json> run() {
+        const Encoding& enc = g_.encoding;
+        if (enc.empty() || !(enc.quantum_m >= 1e-9 && enc.quantum_m <= 1e-3)) return std::nullopt;
+        if (g_.rules.size() != g_.symbol_names.size()) return std::nullopt;
+        for (std::size_t k = 0; k < g_.rules.size(); ++k) {
+            if (g_.rules[k].symbol != k + 1) return std::nullopt; // rule k rewrites symbol k + 1
+        }
+        quantum_ = std::pow(10.0, std::round(-std::log10(enc.quantum_m)));
+        if (from_steps(1, quantum_) != enc.quantum_m && std::abs(1.0 / quantum_ - enc.quantum_m) > 1e-18) return std::nullopt;
+        json doc = {{"format", "ggg-grammar"}, {"version", packed_grammar_version}, {"name", g_.name},
+                    {"origin_latlon", {g_.origin.lat, g_.origin.lon}}, {"symbols", g_.symbol_names}};
+        json rules, axiom, encoding;
+        if (!pack_rules(rules) || !pack_axiom(axiom) || !pack_instances(encoding)) return std::nullopt;
+        json class_names = json::array();
+        for (int c = 0; c < highway_class_count; ++c) class_names.push_back(highway_name(static_cast<HighwayClass>(c)));
+        encoding["mode"] = enc.mode;
+        encoding["levels"] = enc.levels;
+        encoding["tolerance_m"] = enc.tolerance_m;
+        encoding["quantum_m"] = enc.quantum_m;
+        encoding["highway_classes"] = std::move(class_names);
+        if (enc.decoded_vertices >= 0) encoding["decodes_to"] = {enc.decoded_vertices, enc.decoded_edges};
+        doc["rules"] = std::move(rules);
+        doc["axiom"] = std::move(axiom);
+        doc["encoding"] = std::move(encoding);
+        return doc;
+    }
+
+private:
+    bool put(json& column, double x, double inverse, std::int64_t offset = 0) {
+        const auto k = steps(x, inverse);
+        if (!k) return false;
+        column.push_back(*k - offset);
+        return true;
+    }
+
+    bool pack_rules(json& out) {
+        json uses = json::array(), size = json::array(), vertex_count = json::array(), edge_count = json::array(), x = json::array(),
+             y = json::array(), symbol = json::array(), transform = json::array(), embedding = json::array(), points = json::array(),
+             edges = json::array();
+        for (const Rule& r : g_.rules) {
+            uses.push_back(r.uses);
+            if (!put(size, r.size_m, size_unit)) return false;
+            vertex_count.push_back(r.vertices.size());
+            edge_count.push_back(r.edges.size());
+            for (const RuleVertex& v : r.vertices) {
+                if (!put(x, v.position.x(), rule_unit) || !put(y, v.position.y(), rule_unit)) return false;
+                symbol.push_back(v.symbol);
+                if (v.symbol) {
+                    if (!put(transform, v.transform.scale, frame_scale_unit) || !put(transform, v.transform.rotation_deg, frame_degree_unit)) return false;
+                } else if (v.transform != Frame{}) {
+                    return false;
+                }
+                embedding.push_back(v.embedding.size());
+                for (const EmbeddingPoint& p : v.embedding) {
+                    if (!put(points, p.offset.x(), rule_unit) || !put(points, p.offset.y(), rule_unit)) return false;
+                    points.push_back(static_cast<int>(p.highway));
+                }
+            }
+            for (const GrammarEdge& e : r.edges) edges.insert(edges.end(), {e.a, e.b, static_cast<int>(e.highway)});
+        }
+        out = {{"uses", std::move(uses)}, {"size_cm", std::move(size)}, {"vertices", std::move(vertex_count)},
+               {"edges", std::move(edge_count)}, {"x", std::move(x)}, {"y", std::move(y)}, {"symbol", std::move(symbol)},
+               {"transform", std::move(transform)}, {"embedding", std::move(embedding)}, {"points", std::move(points)},
+               {"edge_list", std::move(edges)}};
+        return true;
+    }
+
+    bool pack_axiom(json& out) {
+        json x = json::array(), y = json::array(), nonterminals = json::array(), symbol = json::array(), frames = json::array();
+        std::int64_t px = 0, py = 0, previous = 0;
+        for (std::size_t i = 0; i < g_.axiom_vertices.size(); ++i) {
+            const AxiomVertex& v = g_.axiom_vertices[i];
+            const auto kx = steps(v.position.x(), quantum_), ky = steps(v.position.y(), quantum_);
+            if (!kx || !ky) return false;
+            x.push_back(*kx - px);
+            y.push_back(*ky - py);
+            px = *kx;
+            py = *ky;
+            if (!v.symbol) {
+                if (v.frame != Frame{}) return false;
+                continue;
+            }
+            nonterminals.push_back(static_cast<std::int64_t>(i) - previous);
+            previous = static_cast<std::int64_t>(i);
+            symbol.push_back(v.symbol);
+            if (!put(frames, v.frame.scale, frame_scale_unit) || !put(frames, v.frame.rotation_deg, frame_degree_unit)) return false;
+        }
+        out = {{"x", std::move(x)}, {"y", std::move(y)}, {"nonterminals", std::move(nonterminals)}, {"symbol", std::move(symbol)},
+               {"frames", std::move(frames)}, {"edges", edge_steps(g_.axiom_edges)}};
+        return true;
+    }
+
+    // Instances in the order the derivation meets them: the axiom's nonterminals in order,
+    // then, level by level, the nonterminals each instance places, in rule-vertex order.
+    // That order is all the packed form says about which instance rewrites what.
+    bool derivation_order(std::vector<std::int32_t>& order) {
+        const Encoding& enc = g_.encoding;
+        std::deque<std::int32_t> queue;
+        std::vector<char> seen(enc.instances.size(), 0);
+        auto visit = [&](std::int32_t id) {
+            if (id < 0 || static_cast<std::size_t>(id) >= enc.instances.size() || seen[static_cast<std::size_t>(id)]) return false;
+            seen[static_cast<std::size_t>(id)] = 1;
+            queue.push_back(id);
+            return true;
+        };
+        for (std::size_t i = 0; i < g_.axiom_vertices.size(); ++i) {
+            if (!g_.axiom_vertices[i].symbol) continue;
+            if (enc.axiom_instances.size() != g_.axiom_vertices.size() || !visit(enc.axiom_instances[i])) return false;
+        }
+        while (!queue.empty()) {
+            const std::int32_t id = queue.front();
+            queue.pop_front();
+            order.push_back(id);
+            const RuleInstance& inst = enc.instances[static_cast<std::size_t>(id)];
+            const Rule* rule = g_.rule_for(inst.symbol);
+            if (!rule) return false;
+            bool any_nonterminal = false;
+            for (std::size_t j = 0; j < rule->vertices.size(); ++j) {
+                if (!rule->vertices[j].symbol) continue;
+                any_nonterminal = true;
+                if (inst.children.size() != rule->vertices.size() || !visit(inst.children[j])) return false;
+            }
+            if (!any_nonterminal && !inst.children.empty()) return false;
+        }
+        return order.size() == enc.instances.size();
+    }
+
+    bool pack_instances(json& out) {
+        const Encoding& enc = g_.encoding;
+        std::vector<std::int32_t> order;
+        if (!derivation_order(order)) return false;
+        const bool lossless = enc.mode == "lossless";
+        json correction = json::array(), shift = json::array(), residuals = json::array(), tolerance = json::array(),
+             rule_points = json::array(), embedding = json::array(), classes = json::array();
+        for (const std::int32_t id : order) {
+            const RuleInstance& inst = enc.instances[static_cast<std::size_t>(id)];
+            if (!put(correction, inst.correction.scale, correction_scale_unit, static_cast<std::int64_t>(correction_scale_unit)) ||
+                !put(correction, inst.correction.rotation_deg, correction_degree_unit) || !put(shift, inst.shift.x(), quantum_) ||
+                !put(shift, inst.shift.y(), quantum_)) {
+                return false;
+            }
+            if (inst.residuals.size() != (lossless ? g_.rule_for(inst.symbol)->vertices.size() : 0)) return false;
+            for (const Vec2& r : inst.residuals) {
+                if (!put(residuals, r.x(), quantum_) || !put(residuals, r.y(), quantum_)) return false;
+            }
+            const auto code = tolerance_code(inst.tolerance_m);
+            if (!code) return false;
+            tolerance.push_back(*code);
+            rule_points.push_back(inst.rule_points.size());
+            for (const std::int32_t p : inst.rule_points) rule_points.push_back(p);
+            embedding.push_back(inst.embedding.size());
+            if (!inst.embedding.empty() && !pack_links(inst.embedding, embedding)) return false;
+            classes.push_back(inst.edge_classes.size());
+            for (const auto& [edge, highway] : inst.edge_classes) classes.insert(classes.end(), {edge, static_cast<int>(highway)});
+        }
+        out = {{"correction", std::move(correction)}, {"shift", std::move(shift)}, {"residuals", std::move(residuals)},
+               {"tolerance", std::move(tolerance)}, {"rule_points", std::move(rule_points)}, {"embedding", std::move(embedding)},
+               {"edge_classes", std::move(classes)}};
+        return true;
+    }
+
+    // An instance's own points are rounded to a power of ten that depends on its tolerance
+    // and its frame: the coarsest power that holds them all exactly is stored first.
+    static bool pack_links(const std::vector<RuleInstance::Link>& links, json& out) {
+        for (int exponent = -6; exponent <= 12; ++exponent) {
+            const double inverse = std::pow(10.0, exponent);
+            json packed = json::array();
+            bool exact = true;
+            for (const RuleInstance::Link& l : links) {
+                const auto kx = steps(l.point.offset.x(), inverse), ky = steps(l.point.offset.y(), inverse);
+                if (!kx || !ky) {
+                    exact = false;
+                    break;
+                }
+                packed.insert(packed.end(), {json(l.vertex), json(*kx), json(*ky), json(static_cast<int>(l.point.highway))});
+            }
+            if (!exact) continue;
+            out.push_back(exponent);
+            out.insert(out.end(), packed.begin(), packed.end());
+            return true;
+        }
+        return false;
+    }
+
+    const Grammar& g_;
+    double quantum_ = 1.0;
+};
+
+} // namespace
+
+json edge_steps(const std::vector<GrammarEdge>& edges) {
+    json out = json::array();
+    std::int64_t previous = 0;
+    for (const GrammarEdge& e : edges) {
+        out.insert(out.end(), {e.a - previous, static_cast<std::int64_t>(e.b) - e.a, static_cast<std::int64_t>(e.highway)});
+        previous = e.a;
+    }
+    return out;
+}
+
+std::optional<json> pack_grammar(const Grammar& grammar) { return Packer(grammar).run(); }
+
+json pack_graph(const GeometricGraph& g, double quantum_m) {
+    const double inverse = std::pow(10.0, std::round(-std::log10(quantum_m)));
+    json x = json::array(), y = json::array();
+    std::int64_t px = 0, py = 0;
+    for (const Vec2& p : g.positions) {
+        const auto kx = std::llround(p.x() * inverse), ky = std::llround(p.y() * inverse);
+        x.push_back(kx - px);
+        y.push_back(ky - py);
+        px = kx;
+        py = ky;
+    }
+    std::vector<GrammarEdge> edges;
+    for (std::size_t e = 0; e < g.edge_count(); ++e) edges.push_back({static_cast<std::int32_t>(g.edges[e][0]), static_cast<std::int32_t>(g.edges[e][1]), g.edge_highway[e]});
+    return {{"origin_latlon", {g.origin.lat, g.origin.lon}}, {"x", std::move(x)}, {"y", std::move(y)}, {"edges", edge_steps(edges)}};
+}
+
+namespace {
+
+class Unpacker : public JsonReader<GrammarError> {
+public:
+    using JsonReader::JsonReader;
+
+    // Column `key` of `object`, every entry an integer in [lo, hi].
+    std::vector<std::int64_t> ints(const json& object, const char* key, const std::string& where, std::int64_t lo = INT64_MIN / 4,
+                                   std::int64_t hi = INT64_MAX / 4) const {
+        const std::string at = where + "." + key;
+        const json& column = array(member(object, key, where), at);
+        std::vector<std::int64_t> out;
+        out.reserve(column.size());
+        for (std::size_t i = 0; i < column.size(); ++i) out.push_back(integer(column[i], at + "[" + std::to_string(i) + "]", lo, hi));
+        return out;
+    }
+};
+
+// Reads a column front to back; running past its end is an error naming the column.
+struct Cursor {
+    const Unpacker& r;
+    std::vector<std::int64_t> values;
+    std::string where;
+    std::size_t next = 0;
+
+    std::int64_t take(std::int64_t lo = INT64_MIN / 4, std::int64_t hi = INT64_MAX / 4) {
+        if (next >= values.size()) r.fail(where, "ends early (" + std::to_string(values.size()) + " entries)");
+        const std::int64_t v = values[next];
+        if (v < lo || v > hi) r.fail(where + "[" + std::to_string(next) + "]", std::to_string(v) + " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        ++next;
+        return v;
+    }
+    void finish() const {
+        if (next != values.size()) r.fail(where, "has " + std::to_string(values.size() - next) + " entries more than the grammar uses");
+    }
+};
+
+} // namespace
+
+Grammar unpack_grammar(const json& doc, const std::string& name) {
+    const Unpacker r(name);
+    Grammar g;
+    if (const json* n = r.optional(doc, "name")) {
+        if (!n->is_string()) r.fail("name", "must be a string");
+        g.name = n->get<std::string>();
+    }
+    if (const json* o = r.optional(doc, "origin_latlon")) {
+        if (!o->is_array() || o->size() != 2) r.fail("origin_latlon", "must be [latitude, longitude]");
+        g.origin = {r.number((*o)[0], "origin_latlon[0]"), r.number((*o)[1], "origin_latlon[1]")};
+    }
+    const json& symbols = r.array(r.member(doc, "symbols", "file"), "symbols");
+    for (std::size_t i = 0; i < symbols.size(); ++i) {
+        if (!symbols[i].is_string() || symbols[i].get<std::string>().empty() || symbols[i].get<std::string>() == "terminal") {
+            r.fail("symbols[" + std::to_string(i) + "]", "must be the name of a nonterminal");
+        }
+        g.symbol_names.push_back(symbols[i].get<std::string>());
+    }
+    const auto symbol_max = static_cast<std::int64_t>(g.symbol_names.size());
+    const std::int64_t class_max = highway_class_count - 1;
+    const json& enc_doc = r.member(doc, "encoding", "file");
+    Encoding& enc = g.encoding;
+    const json& mode = r.member(enc_doc, "mode", "encoding");
+    if (!mode.is_string()) r.fail("encoding.mode", "must be \"paper\" or \"lossless\"");
+    enc.mode = mode.get<std::string>();
+    if (enc.mode != "paper" && enc.mode != "lossless") r.fail("encoding.mode", "must be \"paper\" or \"lossless\"");
+    enc.levels = static_cast<int>(r.integer(r.member(enc_doc, "levels", "encoding"), "encoding.levels", 0, 1'000'000));
+    enc.tolerance_m = r.number(r.member(enc_doc, "tolerance_m", "encoding"), "encoding.tolerance_m");
+    enc.quantum_m = r.number(r.member(enc_doc, "quantum_m", "encoding"), "encoding.quantum_m");
+    if (!(enc.quantum_m >= 1e-9 && enc.quantum_m <= 1e-3)) r.fail("encoding.quantum_m", "must lie between 1e-9 and 1e-3");
+    const double quantum = std::pow(10.0, std::round(-std::log10(enc.quantum_m)));
+    if (const json* d = r.optional(enc_doc, "decodes_to")) {
+        r.array(*d, "encoding.decodes_to", 2);
+        enc.decoded_vertices = r.integer((*d)[0], "encoding.decodes_to[0]", 0, INT32_MAX);
+        enc.decoded_edges = r.integer((*d)[1], "encoding.decodes_to[1]", 0, INT32_MAX);
+    }
+
+    // Rules.
+    const json& rules = r.member(doc, "rules", "file");
+    const auto uses = r.ints(rules, "uses", "rules", 0);
+    const std::size_t rule_count = uses.size();
+    if (rule_count != g.symbol_names.size()) r.fail("rules.uses", "needs one entry per symbol");
+    auto column = [&](const json& object, const char* key, const std::string& where, std::size_t size) {
+        auto v = r.ints(object, key, where);
+        if (size != JsonReader<GrammarError>::any_size && v.size() != size) {
+            r.fail(where + "." + key, "has " + std::to_string(v.size()) + " entries, expected " + std::to_string(size));
+        }
+        return Cursor{r, std::move(v), where + "." + key};
+    };
+    Cursor size = column(rules, "size_cm", "rules", rule_count);
+    Cursor vertex_count = column(rules, "vertices", "rules", rule_count);
+    Cursor edge_count = column(rules, "edges", "rules", rule_count);
+    Cursor x = column(rules, "x", "rules", JsonReader<GrammarError>::any_size);
+    Cursor y = column(rules, "y", "rules", x.values.size());
+    Cursor symbol = column(rules, "symbol", "rules", x.values.size());
+    Cursor transform = column(rules, "transform", "rules", JsonReader<GrammarError>::any_size);
+    Cursor embedding = column(rules, "embedding", "rules", x.values.size());
+    Cursor points = column(rules, "points", "rules", JsonReader<GrammarError>::any_size);
+    Cursor edges = column(rules, "edge_list", "rules", JsonReader<GrammarError>::any_size);
+    for (std::size_t k = 0; k < rule_count; ++k) {
+        Rule rule;
+        rule.symbol = static_cast<Symbol>(k + 1);
+        rule.uses = static_cast<std::uint64_t>(uses[k]);
+        rule.size_m = from_steps(size.take(0), size_unit);
+        const auto n = vertex_count.take(0, INT32_MAX);
+        for (std::int64_t i = 0; i < n; ++i) {
+            RuleVertex v;
+            v.position = {from_steps(x.take(), rule_unit), from_steps(y.take(), rule_unit)};
+            v.symbol = static_cast<Symbol>(symbol.take(0, symbol_max));
+            if (v.symbol) {
+                v.transform.scale = from_steps(transform.take(1), frame_scale_unit);
+                v.transform.rotation_deg = from_steps(transform.take(), frame_degree_unit);
+            }
+            const auto m = embedding.take(0, INT32_MAX);
+            for (std::int64_t j = 0; j < m; ++j) {
+                EmbeddingPoint p;
+                p.offset = {from_steps(points.take(), rule_unit), from_steps(points.take(), rule_unit)};
+                p.highway = static_cast<HighwayClass>(points.take(0, class_max));
+                v.embedding.push_back(p);
+            }
+            rule.vertices.push_back(std::move(v));
+        }
+        const auto e = edge_count.take(0, INT32_MAX);
+        for (std::int64_t j = 0; j < e; ++j) {
+            GrammarEdge edge;
+            edge.a = static_cast<std::int32_t>(edges.take(0, n - 1));
+            edge.b = static_cast<std::int32_t>(edges.take(0, n - 1));
+            edge.highway = static_cast<HighwayClass>(edges.take(0, class_max));
+            rule.edges.push_back(edge);
+        }
+        g.rules.push_back(std::move(rule));
+    }
+    for (const Cursor* c : {&x, &y, &symbol, &transform, &embedding, &points, &edges}) c->finish();
+
+    // Axiom.
+    const json& axiom = r.member(doc, "axiom", "file");
+    Cursor ax = column(axiom, "x", "axiom", JsonReader<GrammarError>::any_size);
+    Cursor ay = column(axiom, "y", "axiom", ax.values.size());
+    Cursor nonterminals = column(axiom, "nonterminals", "axiom", JsonReader<GrammarError>::any_size);
+    Cursor axiom_symbol = column(axiom, "symbol", "axiom", nonterminals.values.size());
+    Cursor frames = column(axiom, "frames", "axiom", 2 * nonterminals.values.size());
+    std::int64_t px = 0, py = 0;
+    for (std::size_t i = 0; i < ax.values.size(); ++i) {
+        px += ax.take();
+        py += ay.take();
+        g.axiom_vertices.push_back({{from_steps(px, quantum), from_steps(py, quantum)}, 0, Frame{}});
+    }
+    std::int64_t at = 0;
+    const auto vertex_max = static_cast<std::int64_t>(g.axiom_vertices.size()) - 1;
+    for (std::size_t k = 0; k < nonterminals.values.size(); ++k) {
+        at += nonterminals.take(k ? 1 : 0, vertex_max);
+        if (at > vertex_max) r.fail("axiom.nonterminals", "points past the last axiom vertex");
+        AxiomVertex& v = g.axiom_vertices[static_cast<std::size_t>(at)];
+        v.symbol = static_cast<Symbol>(axiom_symbol.take(1, symbol_max));
+        v.frame.scale = from_steps(frames.take(1), frame_scale_unit);
+        v.frame.rotation_deg = from_steps(frames.take(), frame_degree_unit);
+    }
+    Cursor axiom_edges = column(axiom, "edges", "axiom", JsonReader<GrammarError>::any_size);
+    if (axiom_edges.values.size() % 3) r.fail("axiom.edges", "must hold (step, span, class) triples");
+    std::int64_t a = 0;
+    for (std::size_t k = 0; k < axiom_edges.values.size() / 3; ++k) {
+        a += axiom_edges.take();
+        const std::int64_t b = a + axiom_edges.take();
+        if (a < 0 || a > vertex_max || b < 0 || b > vertex_max) r.fail("axiom.edges", "edge " + std::to_string(k) + " joins a vertex out of range");
+        g.axiom_edges.push_back({static_cast<std::int32_t>(a), static_cast<std::int32_t>(b), static_cast<HighwayClass>(axiom_edges.take(0, class_max))});
+    }
+
+    // Instances, in derivation order (see Packer::derivation_order).
+    const bool lossless = enc.mode == "lossless";
+    Cursor tolerance = column(enc_doc, "tolerance", "encoding", JsonReader<GrammarError>::any_size); // one per instance
+    const std::size_t instance_count = tolerance.values.size();
+    Cursor correction = column(enc_doc, "correction", "encoding", 2 * instance_count);
+    Cursor shift = column(enc_doc, "shift", "encoding", 2 * instance_count);
+    Cursor residuals = column(enc_doc, "residuals", "encoding", JsonReader<GrammarError>::any_size);
+    Cursor rule_points = column(enc_doc, "rule_points", "encoding", JsonReader<GrammarError>::any_size);
+    Cursor links = column(enc_doc, "embedding", "encoding", JsonReader<GrammarError>::any_size);
+    Cursor classes = column(enc_doc, "edge_classes", "encoding", JsonReader<GrammarError>::any_size);
+    enc.instances.resize(instance_count);
+    std::size_t next_id = 0;
+    auto claim = [&](Symbol s, const std::string& where) {
+        if (next_id >= instance_count) r.fail(where, "more nonterminals than instances (" + std::to_string(instance_count) + ")");
+        enc.instances[next_id].symbol = s;
+        return static_cast<std::int32_t>(next_id++);
+    };
+    bool any_nonterminal = false;
+    for (const AxiomVertex& v : g.axiom_vertices) any_nonterminal |= v.symbol != 0;
+    if (any_nonterminal) {
+        for (const AxiomVertex& v : g.axiom_vertices) enc.axiom_instances.push_back(v.symbol ? claim(v.symbol, "axiom") : -1);
+    }
+    for (std::size_t k = 0; k < instance_count; ++k) {
+        if (k >= next_id) r.fail("encoding", "instance " + std::to_string(k) + " rewrites no nonterminal");
+        RuleInstance& inst = enc.instances[k];
+        const Rule& rule = g.rules[inst.symbol - 1];
+        const std::string where = "encoding.instances[" + std::to_string(k) + "]";
+        inst.correction.scale = from_steps(correction.take() + static_cast<std::int64_t>(correction_scale_unit), correction_scale_unit);
+        inst.correction.rotation_deg = from_steps(correction.take(), correction_degree_unit);
+        inst.shift = {from_steps(shift.take(), quantum), from_steps(shift.take(), quantum)};
+        if (lossless) {
+            for (std::size_t j = 0; j < rule.vertices.size(); ++j) {
+                const double rx = from_steps(residuals.take(), quantum); // x before y
+                inst.residuals.emplace_back(rx, from_steps(residuals.take(), quantum));
+            }
+        }
+        const auto code = tolerance.take(0, 619);
+        if (code) {
+            const auto m = static_cast<int>(code % 10);
+            if (m == 0) r.fail(where + ".tolerance", "not a tolerance code");
+            inst.tolerance_m = one_digit_decimal(m, static_cast<int>(code / 10) - 31);
+        }
+        const auto point_count = rule_points.take(0, INT32_MAX);
+        for (std::int64_t j = 0; j < point_count; ++j) inst.rule_points.push_back(static_cast<std::int32_t>(rule_points.take(0, INT32_MAX)));
+        const auto link_count = links.take(0, INT32_MAX);
+        if (link_count) {
+            const double inverse = std::pow(10.0, static_cast<double>(links.take(-6, 12)));
+            for (std::int64_t j = 0; j < link_count; ++j) {
+                RuleInstance::Link l;
+                l.vertex = static_cast<std::int32_t>(links.take(0, static_cast<std::int64_t>(rule.vertices.size()) - 1));
+                l.point.offset = {from_steps(links.take(), inverse), from_steps(links.take(), inverse)};
+                l.point.highway = static_cast<HighwayClass>(links.take(0, class_max));
+                inst.embedding.push_back(l);
+            }
+        }
+        const auto class_count = classes.take(0, INT32_MAX);
+        for (std::int64_t j = 0; j < class_count; ++j) {
+            const auto edge = static_cast<std::int32_t>(classes.take(0, static_cast<std::int64_t>(rule.edges.size()) - 1));
+            inst.edge_classes.emplace_back(edge, static_cast<HighwayClass>(classes.take(0, class_max)));
+        }
+        bool has_nonterminal = false;
+        for (const RuleVertex& v : rule.vertices) has_nonterminal |= v.symbol != 0;
+        if (has_nonterminal) {
+            for (const RuleVertex& v : rule.vertices) inst.children.push_back(v.symbol ? claim(v.symbol, where) : -1);
+        }
+    }
+    if (next_id != instance_count) r.fail("encoding", std::to_string(instance_count - next_id) + " instances more than the nonterminals they rewrite");
+    for (const Cursor* c : {&axiom_edges, &correction, &shift, &residuals, &tolerance, &rule_points, &links, &classes}) c->finish();
+    try {
+        validate(g);
+    } catch (const GrammarError& e) {
+        throw GrammarError(name + ": " + e.what());
+    }
+    return g;
+}
+
+namespace {
+
+// The document tree built from CBOR, with the bounds of the JSON parser (json_util.hpp).
+class BoundedCborDom : public nlohmann::detail::json_sax_dom_parser<json> {
+public:
+    using Base = nlohmann::detail::json_sax_dom_parser<json>;
+    BoundedCborDom(json& document, const std::string& name) : Base(document, false), name_(name) {}
+
+    bool start_object(std::size_t n) { return deeper() && Base::start_object(n); }
+    bool start_array(std::size_t n) { return deeper() && Base::start_array(n); }
+    bool end_object() { --depth_; return Base::end_object(); }
+    bool end_array() { --depth_; return Base::end_array(); }
+    bool string(std::string& s) {
+        if (s.size() > max_json_string_bytes) throw GrammarError(name_ + ": not valid input (a string longer than 1 MiB)");
+        return Base::string(s);
+    }
+    bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception&) {
+        throw GrammarError(name_ + ": not valid CBOR (byte " + std::to_string(position) + ")");
+    }
+
+private:
+    bool deeper() {
+        if (++depth_ > max_json_depth) throw GrammarError(name_ + ": not valid input (nested more than " + std::to_string(max_json_depth) + " deep)");
+        return true;
+    }
+    const std::string& name_;
+    int depth_ = 0;
+};
+
+} // namespace
+
+json parse_cbor(const std::string& bytes, const std::string& name) {
+    json doc;
+    BoundedCborDom dom(doc, name);
+    try {
+        if (!json::sax_parse(bytes, &dom, json::input_format_t::cbor)) throw GrammarError(name + ": not valid CBOR");
+    } catch (const json::exception& e) {
+        throw GrammarError(name + ": not valid CBOR (" + std::string(e.what()) + ")");
+    }
+    return doc;
+}
+
+bool looks_like_cbor(const std::string& bytes) {
+    // A packed grammar is a CBOR map (major type 5); JSON text starts with '{' or blanks.
+    return !bytes.empty() && (static_cast<unsigned char>(bytes[0]) & 0xe0) == 0xa0;
+}
+
+} // namespace ggg::io_detail
