@@ -89,11 +89,15 @@ def test_until_nothing_repeats_ends_at_its_budget(town):
 
 
 def test_a_damaged_grammar_does_not_decode(town, tmp_path):
-    grammar, _stats = ggg.learn(town, lossless=True)
+    grammar, _stats = ggg.learn(town)
     path = tmp_path / "town.grammar.json"
     grammar.write(str(path))
     doc = json.loads(path.read_text())
-    doc["axiom"]["x"][0] = 1e9
+    # The first nonterminal moved 10 km (positions are delta-coded quanta: the next stays).
+    at = doc["axiom"]["nonterminals"][0]
+    far = round(10_000 / doc["encoding"]["quantum_m"])
+    doc["axiom"]["x"][at] += far
+    doc["axiom"]["x"][at + 1] -= far
     damaged = ggg.parse_grammar(json.dumps(doc), "damaged")
     with pytest.raises(ggg.GrammarError, match="does not decode to what it encodes"):
         ggg.decode(damaged)

@@ -50,7 +50,11 @@ inline Complex linear(const Similarity2& s) { return {s.a, s.b}; }
 // Frames the derivation corrects afterwards (the axiom's, the rules' T_i) need few digits;
 // an instance's correction is what places it, to about 1e-6 of its size. The steps are the
 // fixed units of the packed grammar file (io/grammar_packing.cpp).
-inline Frame frame_of(Complex z) { return {std::max(round_to(std::abs(z), 1e4), 1e-4), round_to(std::arg(z) * 180.0 / M_PI, 100)}; }
+inline Frame frame_of(Complex z, double scale_inverse_step = 1e4) {
+    return {std::max(round_to(std::abs(z), scale_inverse_step), 1.0 / scale_inverse_step), round_to(std::arg(z) * 180.0 / M_PI, 100)};
+}
+// An axiom frame's scale is the size of its copy in metres: to the millimetre.
+inline constexpr double axiom_scale_inverse_step = 1e3;
 inline Frame correction_of(Complex z) { return {std::max(round_to(std::abs(z), 1e6), 1e-6), round_to(std::arg(z) * 180.0 / M_PI, 1e4)}; }
 
 // 1 / quantum as the exact power of ten (1.0 / 1e-6 is not exactly 1e6).
@@ -59,6 +63,12 @@ inline double inverse_of(double quantum) { return std::pow(10.0, std::round(-std
 // The one-digit decimal m × 10^e, computed as the packed grammar file reads it back.
 inline double one_digit_decimal(double mantissa, int exponent) {
     return exponent >= 0 ? mantissa * std::pow(10.0, exponent) : mantissa / std::pow(10.0, -exponent);
+}
+
+// Bytes of an integer in CBOR.
+inline double cbor_bytes(std::int64_t k) {
+    const std::uint64_t a = k >= 0 ? static_cast<std::uint64_t>(k) : static_cast<std::uint64_t>(-(k + 1));
+    return a < 24 ? 1 : a < 256 ? 2 : a < 65536 ? 3 : a < 4294967296ULL ? 5 : 9;
 }
 
 // A vertex of a level's graph: a street vertex of the input, or a nonterminal standing for
@@ -114,6 +124,13 @@ private:
     void encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
                       std::vector<std::int32_t>& level_instances, LevelReport& lr);
 
+    // What encoding these occurrences as instances of one rule saves, in bytes of the packed
+    // grammar file against the packed graph (docs/learning.md#size): the positions and
+    // inside edges they no longer store, less each instance's frame, residuals (lossless)
+    // and the extra bytes of its embedding, less the rule itself.
+    double packed_gain(const Isogroup& group, const std::vector<std::vector<VertexId>>& occs, const std::vector<Similarity2>& fits,
+                       const Adjacency& adj) const;
+
     // The largest distance from a street vertex of the occurrence (labelled as the pattern)
     // to where `fit` puts the pattern's vertex: the vertex's paper-mode decoding error.
     // Nonterminals are left out, since their instances correct their own frames.
@@ -165,6 +182,14 @@ private:
     const ProgressCallback& progress_;
     LearnResult result_;
     double progress_done_ = 0.0;
+
+    // Whether a group must also pay for its rule's own bytes (packed_gain). Off only for the
+    // first pass of a graph where nothing pays that way: a small town still gets the
+    // patterns whose copies pay for themselves.
+    bool charge_rules_ = true;
+    // Mean bytes of one vertex's position and of one edge in the packed graph of the input.
+    double vertex_bytes_ = 6.0;
+    double edge_bytes_ = 5.0;
 
     GeometricGraph graph_;   // the current level's graph
     std::vector<Node> nodes_; // per vertex of graph_

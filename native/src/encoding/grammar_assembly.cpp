@@ -91,11 +91,11 @@ Grammar Encoder::build_grammar() {
     // Decoding finds embedding partners and merges vertices within this distance: well
     // below the closest two input vertices, well above the rounding of what is stored.
     const double closest = closest_pair_distance(input_.positions);
-    enc.tolerance_m = std::max(round_significant(0.25 * closest, 1), 100 * options_.quantum_m);
+    enc.tolerance_m = std::max(round_significant(0.25 * closest, 1), options_.quantum_m);
     // In paper mode vertices decode away from where they were, possibly towards each
     // other: the shared tolerance stays small, and each instance gets the room its
     // decoded surroundings leave (embed).
-    if (!options_.lossless) enc.tolerance_m = std::min(enc.tolerance_m, std::max(1e-3, 100 * options_.quantum_m));
+    if (!options_.lossless) enc.tolerance_m = std::min(enc.tolerance_m, std::max(1e-3, 10 * options_.quantum_m));
     placer_.assign(input_.vertex_count(), -1);
     axiom_index_.assign(input_.vertex_count(), -1);
     for (std::size_t i = 0; i < instances_.size(); ++i) {
@@ -115,7 +115,13 @@ Grammar Encoder::build_grammar() {
         AxiomVertex av;
         av.position = round_to(graph_.positions[v], inverse_of(options_.quantum_m));
         av.symbol = graph_.symbols[v];
-        if (n.nonterminal) av.frame = frame_of(linear(graph_.frames[v]));
+        if (n.nonterminal) {
+            // The nonterminal stands where its rule's origin fits the copy, in the copy's own
+            // frame: its instance needs next to no correction or shift.
+            const InstanceDraft& d = instances_[static_cast<std::size_t>(n.id)];
+            av.position = round_to(d.fit.t, inverse_of(options_.quantum_m));
+            av.frame = frame_of(linear(d.fit), axiom_scale_inverse_step);
+        }
         else axiom_index_[static_cast<std::size_t>(n.id)] = static_cast<std::int32_t>(v);
         g.axiom_vertices.push_back(av);
         enc.axiom_instances.push_back(n.nonterminal ? n.id : -1);
@@ -155,9 +161,10 @@ void Encoder::simulate(Grammar& grammar) {
             if (id < 0) continue;
             RuleInstance& ri = enc.instances[static_cast<std::size_t>(id)];
             const InstanceDraft& d = instances_[static_cast<std::size_t>(id)];
-            ri.correction = correction_of(linear(d.fit) / linear(g.frames[q]));
+            // The axiom's nonterminals carry their copies' frames (build_grammar): no correction.
+            if (step > 0) ri.correction = correction_of(linear(d.fit) / linear(g.frames[q]));
             Similarity2 effective = g.frames[q] * ri.correction.at(Vec2::Zero());
-            ri.shift = round_to(d.fit.t - effective.t, inverse_quantum);
+            if (step > 0) ri.shift = round_to(d.fit.t - effective.t, inverse_quantum);
             effective.t += ri.shift;
             effective_[static_cast<std::size_t>(id)] = effective;
             if (!options_.lossless) continue;
@@ -254,7 +261,7 @@ void Encoder::embed(Grammar& grammar) {
     const Tree streets = tree_of(decoded_);
     std::vector<Tree> nonterminals;
     for (const auto& positions : step_nonterminals_) nonterminals.push_back(tree_of(positions));
-    const double same_place = 10 * options_.quantum_m;
+    const double same_place = 0.1 * options_.quantum_m; // only the vertex itself is nearer
     auto nearest_other = [&](const Tree& tree, const Vec2& p) {
         for (auto it = tree.qbegin(bgi::nearest(spatial::point(p), 2)); it != tree.qend(); ++it) {
             const double d = std::hypot(bg::get<0>(*it) - p.x(), bg::get<1>(*it) - p.y());
@@ -297,8 +304,10 @@ void Encoder::embed(Grammar& grammar) {
                 }
             }
             if (reused) continue;
-            // Rounded so that the point errs by at most a twentieth of the tolerance.
-            const double inverse_step = inverse_power_of_ten(tolerance / (20.0 * f.scale()));
+            // Rounded so that the aim errs by at most 0.71 of the tolerance: every other vertex
+            // is at least twice the tolerance from the partner, so the nearest within the
+            // tolerance of the aim is the partner.
+            const double inverse_step = inverse_power_of_ten(tolerance / f.scale());
             RuleInstance::Link link;
             link.vertex = l.vertex;
             link.point.offset = round_to(offset_of(i, l), inverse_step);

@@ -65,6 +65,24 @@ void Encoder::start_level_graph() {
         a.highway = input_.edge_highway[e];
         graph_.add_edge(input_.edges[e][0], input_.edges[e][1], a);
     }
+    // What a vertex and an edge cost in the packed graph (io/grammar_packing.cpp): the
+    // yardstick of what a rule saves.
+    const double inverse = inverse_of(options_.quantum_m);
+    double vertex_bytes = 0.0, edge_bytes = 0.0;
+    std::int64_t px = 0, py = 0, previous = 0;
+    for (const Vec2& p : input_.positions) {
+        const auto x = std::llround(p.x() * inverse), y = std::llround(p.y() * inverse);
+        vertex_bytes += cbor_bytes(x - px) + cbor_bytes(y - py);
+        px = x;
+        py = y;
+    }
+    for (std::size_t e = 0; e < input_.edge_count(); ++e) {
+        const auto [u, v] = input_.edges[e];
+        edge_bytes += cbor_bytes(u - previous) + cbor_bytes(static_cast<std::int64_t>(v) - u) + 1;
+        previous = u;
+    }
+    if (input_.vertex_count()) vertex_bytes_ = vertex_bytes / static_cast<double>(input_.vertex_count());
+    if (input_.edge_count()) edge_bytes_ = edge_bytes / static_cast<double>(input_.edge_count());
 }
 
 bool Encoder::encode_level(int level, bool seeded, Take take) {
@@ -104,13 +122,23 @@ bool Encoder::encode_level(int level, bool seeded, Take take) {
     lr.level = level;
     lr.vertices = graph_.vertex_count();
     lr.edges = graph_.edge_count();
-    for (const AnalyzedIsogroup& ag : analysis.isogroups) {
-        if (seeded && &ag != &analysis.isogroups.front()) break; // the seed's own group only
-        // Ranked by gain: nothing after the first group that does not pay pays either.
-        if (!seeded && take == Take::paying && ag.selection.gain <= 0) break;
-        if (ag.group.order() < 2 || ag.group.pattern.edges.empty()) continue;
-        if (ag.selection.non_overlapping.size() < options_.analysis.detection.min_count) continue;
-        encode_group(ag.group, seeded ? Take::seed : take, level, adj, used, level_instances, lr);
+    auto encode_groups = [&] {
+        for (const AnalyzedIsogroup& ag : analysis.isogroups) {
+            if (seeded && &ag != &analysis.isogroups.front()) break; // the seed's own group only
+            // The analyzer ranks by its own count of numbers; whether a group pays in the
+            // packed file is decided for each (encode_group), so every group is tried, best first.
+            if (ag.group.order() < 2 || ag.group.pattern.edges.empty()) continue;
+            if (ag.selection.non_overlapping.size() < options_.analysis.detection.min_count) continue;
+            encode_group(ag.group, seeded ? Take::seed : take, level, adj, used, level_instances, lr);
+        }
+    };
+    encode_groups();
+    if (level_instances.empty() && rules_.empty() && take == Take::paying && !seeded) {
+        // Nothing pays for its rule as well: a grammar without rules shows nothing and grows
+        // nothing, so the first pass takes the patterns whose copies pay for themselves.
+        charge_rules_ = false;
+        encode_groups();
+        charge_rules_ = true;
     }
     if (level_instances.empty()) {
         if (seeded) lr.seconds = seconds_since(level_start), result_.levels.push_back(lr);
@@ -195,8 +223,8 @@ void check_options(const LearnOptions& o) {
     if (!o.analysis.seed.empty()) throw UsageError("learning analyses the whole graph: it takes no seed");
     if (o.max_levels < 0) throw UsageError("levels: the number of levels must be >= 0 (0 = until nothing repeats)");
     const double exponent = std::log10(o.quantum_m);
-    if (!(o.quantum_m >= 1e-9 && o.quantum_m <= 1e-3) || std::abs(exponent - std::round(exponent)) > 1e-9) {
-        throw UsageError("the quantum must be a power of ten between 1e-9 and 1e-3 m");
+    if (!(o.quantum_m >= 1e-9 && o.quantum_m <= 1e-2) || std::abs(exponent - std::round(exponent)) > 1e-9) {
+        throw UsageError("the quantum must be a power of ten between 1e-9 and 1e-2 m");
     }
     if (!(o.max_shape_error >= 0) || !std::isfinite(o.max_shape_error)) throw UsageError("max_shape_error: the shape error must be a finite number >= 0");
     if (!(o.max_vertex_error_m >= 0) || !std::isfinite(o.max_vertex_error_m)) throw UsageError("max_vertex_error_m: the vertex error must be a finite number of metres >= 0");

@@ -113,7 +113,8 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
             }
         }
         if (options_.max_shape_error > 0 && best.rms_residual > options_.max_shape_error * best.transform.scale()) continue;
-        if (options_.max_vertex_error_m > 0 && worst_street_misfit(group.pattern, best.transform, labelled) > options_.max_vertex_error_m) {
+        // A margin for the rounding of the stored frames and shapes (a few centimetres).
+        if (options_.max_vertex_error_m > 0 && worst_street_misfit(group.pattern, best.transform, labelled) > options_.max_vertex_error_m - 0.05) {
             ++lr.error_rejected;
             continue;
         }
@@ -130,13 +131,7 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
     consistent_frames(group, occs, fits, transforms);
     lr.frame_rejected += before - occs.size();
     if (occs.size() < min_count) return;
-    std::size_t outside = 0;
-    for (const auto& occ : occs) {
-        std::size_t degrees = 0;
-        for (VertexId v : occ) degrees += adj.degree(v);
-        outside += degrees - 2 * group.pattern.edges.size();
-    }
-    if (take == Take::paying && description_gain(k, group.pattern.edges.size(), occs.size(), outside) <= 0) return;
+    if (take == Take::paying && packed_gain(group, occs, fits, adj) <= 0) return;
 
     const int rep = representative_vertex(graph_, adj, occs);
     RuleDraft draft;
@@ -203,6 +198,46 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
     ++lr.rules;
     rules_.push_back(std::move(draft));
     rotations_.push_back(static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
+}
+
+double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector<VertexId>>& occs, const std::vector<Similarity2>& fits,
+                            const Adjacency& adj) const {
+    const Pattern& pattern = group.pattern;
+    const std::size_t k = pattern.positions.size();
+    // An instance at the top: its nonterminal's position, index and symbol, its frame
+    // (scale and rotation), correction, shift, tolerance and three counts.
+    const double instance_bytes = vertex_bytes_ + 17.0;
+    // A link (rule vertex, aim, class) where the graph has an edge.
+    const double link_bytes = 6.0;
+    const double inverse = inverse_of(options_.quantum_m);
+    std::size_t street_edges = 0;
+    for (const auto& [a, b] : pattern.edges) street_edges += !pattern.symbols[static_cast<std::size_t>(a)] && !pattern.symbols[static_cast<std::size_t>(b)];
+    double gain = 0.0;
+    for (std::size_t c = 0; c < occs.size(); ++c) {
+        const auto& occ = occs[c];
+        double saved = static_cast<double>(street_edges) * edge_bytes_ - instance_bytes;
+        std::size_t degrees = 0;
+        for (std::size_t j = 0; j < k; ++j) {
+            const auto v = static_cast<std::size_t>(occ[j]);
+            degrees += adj.degree(occ[j]);
+            if (pattern.symbols[j]) {
+                saved += vertex_bytes_ + 3.0; // its position and frame, now a correction and a shift
+                continue;
+            }
+            saved += vertex_bytes_;
+            if (options_.lossless) {
+                const Vec2 r = (graph_.positions[v] - fits[c].apply(pattern.positions[j])) * inverse;
+                saved -= cbor_bytes(std::llround(r.x())) + cbor_bytes(std::llround(r.y()));
+            }
+        }
+        const double outside = static_cast<double>(degrees - 2 * pattern.edges.size());
+        saved -= 0.5 * outside * (link_bytes - edge_bytes_); // each outside edge is stored by one of its two ends
+        gain += saved;
+    }
+    // The rule: per vertex its position, symbol and count of points; per edge its ends and
+    // class; its counts and size; the points of its best-joined instance.
+    const double rule_bytes = 8.0 * static_cast<double>(k) + 3.0 * static_cast<double>(pattern.edges.size()) + 4.0 + 7.0 * 2.0;
+    return gain - (charge_rules_ ? rule_bytes : 0.0);
 }
 
 double Encoder::worst_street_misfit(const Pattern& pattern, const Similarity2& fit, const std::vector<VertexId>& occ) const {

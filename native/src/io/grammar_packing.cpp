@@ -17,7 +17,8 @@ namespace {
 // The fixed units of the packed form, as inverse steps (a value is stored as the integer
 // count of steps). Each is the rounding the encoder applies when it makes the value.
 constexpr double rule_unit = 1e4;          // rule positions and embedding points, rule units
-constexpr double frame_scale_unit = 1e4;   // scales of T_i and of the axiom's frames
+constexpr double frame_scale_unit = 1e4;   // scales of T_i
+constexpr double axiom_scale_unit = 1e3;   // scales of the axiom's frames (metres)
 constexpr double frame_degree_unit = 100;  // their rotations
 constexpr double correction_scale_unit = 1e6;
 constexpr double correction_degree_unit = 1e4;
@@ -45,15 +46,27 @@ std::optional<std::int64_t> steps(double x, double inverse) {
 double one_digit_decimal(int mantissa, int exponent) {
     return exponent >= 0 ? mantissa * std::pow(10.0, exponent) : mantissa / std::pow(10.0, -exponent);
 }
+// 0 = none; m × 10^e is 9e + m for e >= 0 (1 to 9 m: 1 to 9) and 9e + m - 9 below (all
+// negative), so that the usual tolerances take one byte of CBOR.
 std::optional<std::int64_t> tolerance_code(double t) {
     if (t == 0.0) return 0;
     if (!(t > 0) || !std::isfinite(t)) return std::nullopt;
     const int e = static_cast<int>(std::floor(std::log10(t)));
     for (int exponent : {e - 1, e, e + 1}) {
         const auto m = static_cast<int>(std::llround(t / std::pow(10.0, exponent)));
-        if (m >= 1 && m <= 9 && exponent >= -30 && exponent <= 30 && one_digit_decimal(m, exponent) == t) return (exponent + 31) * 10 + m;
+        if (m >= 1 && m <= 9 && exponent >= -30 && exponent <= 30 && one_digit_decimal(m, exponent) == t) {
+            return 9 * exponent + m - (exponent < 0 ? 9 : 0);
+        }
     }
     return std::nullopt;
+}
+std::optional<double> tolerance_of_code(std::int64_t code) {
+    if (code == 0) return 0.0;
+    if (code < -30 * 9 - 9 || code > 30 * 9 + 9) return std::nullopt;
+    const auto e = static_cast<int>(code > 0 ? (code - 1) / 9 : -((-code) / 9));
+    const auto m = static_cast<int>(code - 9 * e + (e < 0 ? 9 : 0));
+    if (m < 1 || m > 9) return std::nullopt;
+    return one_digit_decimal(m, e);
 }
 
 class Packer {
@@ -62,7 +75,7 @@ public:
 
     std::optional<json> run() {
         const Encoding& enc = g_.encoding;
-        if (enc.empty() || !(enc.quantum_m >= 1e-9 && enc.quantum_m <= 1e-3)) return std::nullopt;
+        if (enc.empty() || !(enc.quantum_m >= 1e-9 && enc.quantum_m <= 1e-2)) return std::nullopt;
         if (g_.rules.size() != g_.symbol_names.size()) return std::nullopt;
         for (std::size_t k = 0; k < g_.rules.size(); ++k) {
             if (g_.rules[k].symbol != k + 1) return std::nullopt; // rule k rewrites symbol k + 1
@@ -73,14 +86,18 @@ public:
                     {"origin_latlon", {g_.origin.lat, g_.origin.lon}}, {"symbols", g_.symbol_names}};
         json rules, axiom, encoding;
         if (!pack_rules(rules) || !pack_axiom(axiom) || !pack_instances(encoding)) return std::nullopt;
-        json class_names = json::array();
-        for (int c = 0; c < highway_class_count; ++c) class_names.push_back(highway_name(static_cast<HighwayClass>(c)));
         encoding["mode"] = enc.mode;
         encoding["levels"] = enc.levels;
         encoding["tolerance_m"] = enc.tolerance_m;
         encoding["quantum_m"] = enc.quantum_m;
-        encoding["highway_classes"] = std::move(class_names);
         if (enc.decoded_vertices >= 0) encoding["decodes_to"] = {enc.decoded_vertices, enc.decoded_edges};
+        // An empty column is left out: the reader takes a missing one as empty.
+        for (json* section : {&rules, &axiom, &encoding}) {
+            for (auto it = section->begin(); it != section->end();) {
+                if (it->is_array() && it->empty()) it = section->erase(it);
+                else ++it;
+            }
+        }
         doc["rules"] = std::move(rules);
         doc["axiom"] = std::move(axiom);
         doc["encoding"] = std::move(encoding);
@@ -145,7 +162,7 @@ private:
             nonterminals.push_back(static_cast<std::int64_t>(i) - previous);
             previous = static_cast<std::int64_t>(i);
             symbol.push_back(v.symbol);
-            if (!put(frames, v.frame.scale, frame_scale_unit) || !put(frames, v.frame.rotation_deg, frame_degree_unit)) return false;
+            if (!put(frames, v.frame.scale, axiom_scale_unit) || !put(frames, v.frame.rotation_deg, frame_degree_unit)) return false;
         }
         out = {{"x", std::move(x)}, {"y", std::move(y)}, {"nonterminals", std::move(nonterminals)}, {"symbol", std::move(symbol)},
                {"frames", std::move(frames)}, {"edges", edge_steps(g_.axiom_edges)}};
@@ -194,11 +211,16 @@ private:
         const bool lossless = enc.mode == "lossless";
         json correction = json::array(), shift = json::array(), residuals = json::array(), tolerance = json::array(),
              rule_points = json::array(), embedding = json::array(), classes = json::array();
-        for (const std::int32_t id : order) {
-            const RuleInstance& inst = enc.instances[static_cast<std::size_t>(id)];
-            if (!put(correction, inst.correction.scale, correction_scale_unit, static_cast<std::int64_t>(correction_scale_unit)) ||
-                !put(correction, inst.correction.rotation_deg, correction_degree_unit) || !put(shift, inst.shift.x(), quantum_) ||
-                !put(shift, inst.shift.y(), quantum_)) {
+        std::size_t axiom_nonterminals = 0;
+        for (const AxiomVertex& v : g_.axiom_vertices) axiom_nonterminals += v.symbol != 0;
+        for (std::size_t n = 0; n < order.size(); ++n) {
+            const RuleInstance& inst = enc.instances[static_cast<std::size_t>(order[n])];
+            if (n < axiom_nonterminals) {
+                // The axiom's instances take its frames as they are.
+                if (inst.correction != Frame{} || inst.shift != Vec2::Zero()) return false;
+            } else if (!put(correction, inst.correction.scale, correction_scale_unit, static_cast<std::int64_t>(correction_scale_unit)) ||
+                       !put(correction, inst.correction.rotation_deg, correction_degree_unit) || !put(shift, inst.shift.x(), quantum_) ||
+                       !put(shift, inst.shift.y(), quantum_)) {
                 return false;
             }
             if (inst.residuals.size() != (lossless ? g_.rule_for(inst.symbol)->vertices.size() : 0)) return false;
@@ -275,7 +297,9 @@ json pack_graph(const GeometricGraph& g, double quantum_m) {
     }
     std::vector<GrammarEdge> edges;
     for (std::size_t e = 0; e < g.edge_count(); ++e) edges.push_back({static_cast<std::int32_t>(g.edges[e][0]), static_cast<std::int32_t>(g.edges[e][1]), g.edge_highway[e]});
-    return {{"origin_latlon", {g.origin.lat, g.origin.lon}}, {"x", std::move(x)}, {"y", std::move(y)}, {"edges", edge_steps(edges)}};
+    // The header any file carries, as the grammar's does.
+    return {{"format", "ggg-graph"}, {"version", 1}, {"origin_latlon", {g.origin.lat, g.origin.lon}},
+            {"x", std::move(x)}, {"y", std::move(y)}, {"edges", edge_steps(edges)}};
 }
 
 namespace {
@@ -288,8 +312,11 @@ public:
     std::vector<std::int64_t> ints(const json& object, const char* key, const std::string& where, std::int64_t lo = INT64_MIN / 4,
                                    std::int64_t hi = INT64_MAX / 4) const {
         const std::string at = where + "." + key;
-        const json& column = array(member(object, key, where), at);
+        if (!object.is_object()) fail(where, "must be an object");
         std::vector<std::int64_t> out;
+        const json* found = optional(object, key);
+        if (!found) return out; // an empty column is left out
+        const json& column = array(*found, at);
         out.reserve(column.size());
         for (std::size_t i = 0; i < column.size(); ++i) out.push_back(integer(column[i], at + "[" + std::to_string(i) + "]", lo, hi));
         return out;
@@ -346,7 +373,7 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     enc.levels = static_cast<int>(r.integer(r.member(enc_doc, "levels", "encoding"), "encoding.levels", 0, 1'000'000));
     enc.tolerance_m = r.number(r.member(enc_doc, "tolerance_m", "encoding"), "encoding.tolerance_m");
     enc.quantum_m = r.number(r.member(enc_doc, "quantum_m", "encoding"), "encoding.quantum_m");
-    if (!(enc.quantum_m >= 1e-9 && enc.quantum_m <= 1e-3)) r.fail("encoding.quantum_m", "must lie between 1e-9 and 1e-3");
+    if (!(enc.quantum_m >= 1e-9 && enc.quantum_m <= 1e-2)) r.fail("encoding.quantum_m", "must lie between 1e-9 and 1e-2");
     const double quantum = std::pow(10.0, std::round(-std::log10(enc.quantum_m)));
     if (const json* d = r.optional(enc_doc, "decodes_to")) {
         r.array(*d, "encoding.decodes_to", 2);
@@ -431,7 +458,7 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
         if (at > vertex_max) r.fail("axiom.nonterminals", "points past the last axiom vertex");
         AxiomVertex& v = g.axiom_vertices[static_cast<std::size_t>(at)];
         v.symbol = static_cast<Symbol>(axiom_symbol.take(1, symbol_max));
-        v.frame.scale = from_steps(frames.take(1), frame_scale_unit);
+        v.frame.scale = from_steps(frames.take(1), axiom_scale_unit);
         v.frame.rotation_deg = from_steps(frames.take(), frame_degree_unit);
     }
     Cursor axiom_edges = column(axiom, "edges", "axiom", JsonReader<GrammarError>::any_size);
@@ -448,8 +475,12 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     const bool lossless = enc.mode == "lossless";
     Cursor tolerance = column(enc_doc, "tolerance", "encoding", JsonReader<GrammarError>::any_size); // one per instance
     const std::size_t instance_count = tolerance.values.size();
-    Cursor correction = column(enc_doc, "correction", "encoding", 2 * instance_count);
-    Cursor shift = column(enc_doc, "shift", "encoding", 2 * instance_count);
+    std::size_t axiom_nonterminals = 0;
+    for (const AxiomVertex& v : g.axiom_vertices) axiom_nonterminals += v.symbol != 0;
+    if (axiom_nonterminals > instance_count) r.fail("encoding.tolerance", "needs one entry per instance (" + std::to_string(axiom_nonterminals) + " nonterminals in the axiom)");
+    // Corrections and shifts of the instances below the axiom's (those take its frames).
+    Cursor correction = column(enc_doc, "correction", "encoding", 2 * (instance_count - axiom_nonterminals));
+    Cursor shift = column(enc_doc, "shift", "encoding", 2 * (instance_count - axiom_nonterminals));
     Cursor residuals = column(enc_doc, "residuals", "encoding", JsonReader<GrammarError>::any_size);
     Cursor rule_points = column(enc_doc, "rule_points", "encoding", JsonReader<GrammarError>::any_size);
     Cursor links = column(enc_doc, "embedding", "encoding", JsonReader<GrammarError>::any_size);
@@ -471,21 +502,20 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
         RuleInstance& inst = enc.instances[k];
         const Rule& rule = g.rules[inst.symbol - 1];
         const std::string where = "encoding.instances[" + std::to_string(k) + "]";
-        inst.correction.scale = from_steps(correction.take() + static_cast<std::int64_t>(correction_scale_unit), correction_scale_unit);
-        inst.correction.rotation_deg = from_steps(correction.take(), correction_degree_unit);
-        inst.shift = {from_steps(shift.take(), quantum), from_steps(shift.take(), quantum)};
+        if (k >= axiom_nonterminals) {
+            inst.correction.scale = from_steps(correction.take(1 - static_cast<std::int64_t>(correction_scale_unit)) + static_cast<std::int64_t>(correction_scale_unit), correction_scale_unit);
+            inst.correction.rotation_deg = from_steps(correction.take(), correction_degree_unit);
+            inst.shift = {from_steps(shift.take(), quantum), from_steps(shift.take(), quantum)};
+        }
         if (lossless) {
             for (std::size_t j = 0; j < rule.vertices.size(); ++j) {
                 const double rx = from_steps(residuals.take(), quantum); // x before y
                 inst.residuals.emplace_back(rx, from_steps(residuals.take(), quantum));
             }
         }
-        const auto code = tolerance.take(0, 619);
-        if (code) {
-            const auto m = static_cast<int>(code % 10);
-            if (m == 0) r.fail(where + ".tolerance", "not a tolerance code");
-            inst.tolerance_m = one_digit_decimal(m, static_cast<int>(code / 10) - 31);
-        }
+        const auto tolerance_m = tolerance_of_code(tolerance.take());
+        if (!tolerance_m) r.fail(where + ".tolerance", "not a tolerance code");
+        inst.tolerance_m = *tolerance_m;
         const auto point_count = rule_points.take(0, INT32_MAX);
         for (std::int64_t j = 0; j < point_count; ++j) inst.rule_points.push_back(static_cast<std::int32_t>(rule_points.take(0, INT32_MAX)));
         const auto link_count = links.take(0, INT32_MAX);

@@ -48,9 +48,11 @@ struct LearnOptions {
     // repeats becomes one last rule used once, so that the axiom is a single vertex. The
     // grammar is larger than the default one; it shows the whole hierarchy.
     bool complete = false;
-    // Lossless residuals are multiples of this; a power of ten between 1e-9 and 1e-3 m.
-    // Rounding each coordinate to it moves a vertex by at most 0.71 quantum.
-    double quantum_m = 1e-6;
+    // Positions, shifts and lossless residuals are multiples of this; a power of ten between
+    // 1e-9 and 1e-2 m. Rounding each coordinate to it moves a vertex by at most 0.71 quantum.
+    // The default is OpenStreetMap's own precision (1e-7 degrees, about 1 cm): lossless to
+    // what the map holds.
+    double quantum_m = 1e-2;
     // A nonterminal of an occurrence must lie in the same frame, relative to the occurrence,
     // as in the pattern's other occurrences: rotation within this many degrees, scale within
     // this factor (paper 6: "a nonterminal only matches the same nonterminal with a

@@ -12,6 +12,7 @@
 
 namespace ggg {
 
+// The same codes are stored in packed grammar files (version 2, docs/grammar-format.md).
 enum class HighwayClass : std::uint8_t {
     motorway, trunk, primary, secondary, tertiary, unclassified, residential, living_street,
     motorway_link, trunk_link, primary_link, secondary_link, tertiary_link,
