@@ -7,8 +7,8 @@ cd "$(dirname "$0")/.."
 OSM=../shared/osm
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-echo "| extract | mode | vertices | edges | passes | levels | rules | instances | axiom vertices | learn s | total s | original kB | grammar kB | edges equal | max / mean error (m) | peak MB |"
-echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---:|"
+echo "| extract | mode | vertices | edges | passes | levels | rules | instances | axiom vertices | learn s | total s | original kB | grammar kB | grammar / graph (JSON, CBOR) | edges equal | max / mean error (m) | peak MB |"
+echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---|---:|"
 for file in paris_marais.osm.pbf barcelona_eixample.osm columbus_oh.osm.pbf porto_metro.osm.pbf; do
   for mode in "" "--lossless"; do
     /usr/bin/time -f "%e %M" -o "$OUT/time" build/bin/ggg learn "$OSM/$file" --highways all $mode "$@" \
@@ -17,10 +17,11 @@ for file in paris_marais.osm.pbf barcelona_eixample.osm columbus_oh.osm.pbf port
 import json, sys
 name, stats, timing = sys.argv[1], json.load(open(sys.argv[2])), open(sys.argv[3]).read().split()
 s, rt = stats["seconds"], stats["roundtrip"]
-print("| {} | {} | {:,} | {:,} | {} | {} | {} | {:,} | {:,} | {:.1f} | {:.1f} | {:,} | {:,} | {} | {:.3g} / {:.3g} | {} |".format(
+b = stats["bytes"]
+print("| {} | {} | {:,} | {:,} | {} | {} | {} | {:,} | {:,} | {:.1f} | {:.1f} | {:,} | {:,} | {:.2f}, {:.2f} | {} | {:.3g} / {:.3g} | {} |".format(
     name.split(".")[0], stats["mode"], stats["input"]["vertices"], stats["input"]["edges"], len(stats["per_level"]),
     stats["levels"], stats["rules"], stats["instances"], stats["axiom"]["vertices"], s["analysis"] + s["encoding"],
-    s["total"], round(stats["bytes"]["original"] / 1000), round(stats["bytes"]["encoded"] / 1000),
+    s["total"], round(b["original"] / 1000), round(b["encoded"] / 1000), b["encoded"] / b["original"], b["encoded_cbor"] / b["original_cbor"],
     "yes" if rt["edges_equal"] else "no", rt["max_displacement_m"], rt["mean_displacement_m"], int(timing[1]) // 1024))
 PY
   done

@@ -33,7 +33,7 @@ MODE_ITEMS = (
     ('PAPER', "Paper", "Rules and the placement of their instances only (paper 6): the decoded streets keep "
      "every edge, the positions move by up to the shape tolerance"),
     ('LOSSLESS', "Lossless", "Also store each vertex's residual, so that the grammar decodes to exactly the same "
-     "streets and positions (within 1e-6 m); larger"),
+     "streets, to OpenStreetMap's own precision (positions within 1 cm)"),
 )
 
 

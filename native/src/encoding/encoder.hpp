@@ -183,10 +183,10 @@ private:
     LearnResult result_;
     double progress_done_ = 0.0;
 
-    // Whether a group must also pay for its rule's own bytes (packed_gain). Off only for the
-    // first pass of a graph where nothing pays that way: a small town still gets the
-    // patterns whose copies pay for themselves.
-    bool charge_rules_ = true;
+    // Whether a group must also pay for its rule's own bytes and its residuals (packed_gain).
+    // Off only for the first pass of a graph where nothing pays that way: a small town still
+    // gets the patterns whose copies would pay for themselves in paper mode.
+    bool strict_gain_ = true;
     // Mean bytes of one vertex's position and of one edge in the packed graph of the input.
     double vertex_bytes_ = 6.0;
     double edge_bytes_ = 5.0;

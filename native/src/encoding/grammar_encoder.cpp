@@ -134,11 +134,12 @@ bool Encoder::encode_level(int level, bool seeded, Take take) {
     };
     encode_groups();
     if (level_instances.empty() && rules_.empty() && take == Take::paying && !seeded) {
-        // Nothing pays for its rule as well: a grammar without rules shows nothing and grows
-        // nothing, so the first pass takes the patterns whose copies pay for themselves.
-        charge_rules_ = false;
+        // Nothing pays for its rule and residuals as well: a grammar without rules shows
+        // nothing and grows nothing, so the first pass takes the patterns whose copies would
+        // pay for themselves in paper mode.
+        strict_gain_ = false;
         encode_groups();
-        charge_rules_ = true;
+        strict_gain_ = true;
     }
     if (level_instances.empty()) {
         if (seeded) lr.seconds = seconds_since(level_start), result_.levels.push_back(lr);

@@ -225,7 +225,7 @@ double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector
                 continue;
             }
             saved += vertex_bytes_;
-            if (options_.lossless) {
+            if (options_.lossless && strict_gain_) {
                 const Vec2 r = (graph_.positions[v] - fits[c].apply(pattern.positions[j])) * inverse;
                 saved -= cbor_bytes(std::llround(r.x())) + cbor_bytes(std::llround(r.y()));
             }
@@ -237,7 +237,7 @@ double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector
     // The rule: per vertex its position, symbol and count of points; per edge its ends and
     // class; its counts and size; the points of its best-joined instance.
     const double rule_bytes = 8.0 * static_cast<double>(k) + 3.0 * static_cast<double>(pattern.edges.size()) + 4.0 + 7.0 * 2.0;
-    return gain - (charge_rules_ ? rule_bytes : 0.0);
+    return gain - (strict_gain_ ? rule_bytes : 0.0);
 }
 
 double Encoder::worst_street_misfit(const Pattern& pattern, const Similarity2& fit, const std::vector<VertexId>& occ) const {
