@@ -122,8 +122,9 @@ bool Encoder::encode_level(int level, bool seeded, Take take) {
     lr.level = level;
     lr.vertices = graph_.vertex_count();
     lr.edges = graph_.edge_count();
-    auto encode_groups = [&] {
+    auto encode_groups = [&](bool first_rule_only) {
         for (const AnalyzedIsogroup& ag : analysis.isogroups) {
+            if (first_rule_only && !level_instances.empty()) break;
             if (seeded && &ag != &analysis.isogroups.front()) break; // the seed's own group only
             // The analyzer ranks by its own count of numbers; whether a group pays in the
             // packed file is decided for each (encode_group), so every group is tried, best first.
@@ -132,13 +133,13 @@ bool Encoder::encode_level(int level, bool seeded, Take take) {
             encode_group(ag.group, seeded ? Take::seed : take, level, adj, used, level_instances, lr);
         }
     };
-    encode_groups();
+    encode_groups(false);
     if (level_instances.empty() && rules_.empty() && take == Take::paying && !seeded) {
         // Nothing pays for its rule and residuals as well: a grammar without rules shows
-        // nothing and grows nothing, so the first pass takes the patterns whose copies would
-        // pay for themselves in paper mode.
+        // nothing and grows nothing, so the first pass takes the best pattern whose copies
+        // would pay for themselves in paper mode (one rule: the file grows by little).
         strict_gain_ = false;
-        encode_groups();
+        encode_groups(true);
         strict_gain_ = true;
     }
     if (level_instances.empty()) {
