@@ -212,6 +212,9 @@ def main():
                 mode = ["--lossless"] if n % 4 == 0 else []
                 if run_cli(args.cli, "learn", path, "-o", path + ".grammar.json", *mode):
                     grammars.append(open(path + ".grammar.json", "rb").read())
+                # The same grammar packed in CBOR (the reader tells it by its first byte).
+                if n % 8 == 0 and run_cli(args.cli, "learn", path, "-o", path + ".grammar.cbor", *mode):
+                    grammars.append(open(path + ".grammar.cbor", "rb").read())
         sierpinski = os.path.join(samples, "sierpinski.grammar.json")
         for steps in (0, 2):
             out = os.path.join(tmp, f"sierpinski{steps}.ggraph")

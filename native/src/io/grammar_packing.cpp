@@ -79,6 +79,11 @@ public:
         if (g_.rules.size() != g_.symbol_names.size()) return std::nullopt;
         for (std::size_t k = 0; k < g_.rules.size(); ++k) {
             if (g_.rules[k].symbol != k + 1) return std::nullopt; // rule k rewrites symbol k + 1
+            if (g_.rules[k].uses > static_cast<std::uint64_t>(INT64_MAX / 4)) return std::nullopt;
+        }
+        // Both counts or neither (the packed form stores them as a pair).
+        if ((enc.decoded_vertices >= 0) != (enc.decoded_edges >= 0) || enc.decoded_vertices > INT32_MAX || enc.decoded_edges > INT32_MAX) {
+            return std::nullopt;
         }
         quantum_ = std::pow(10.0, std::round(-std::log10(enc.quantum_m)));
         if (from_steps(1, quantum_) != enc.quantum_m && std::abs(1.0 / quantum_ - enc.quantum_m) > 1e-18) return std::nullopt;
@@ -105,9 +110,10 @@ public:
     }
 
 private:
-    bool put(json& column, double x, double inverse, std::int64_t offset = 0) {
+    // `lowest`: the reader's bound (a scale is at least one step).
+    bool put(json& column, double x, double inverse, std::int64_t offset = 0, std::int64_t lowest = INT64_MIN / 4) {
         const auto k = steps(x, inverse);
-        if (!k) return false;
+        if (!k || *k < lowest) return false;
         column.push_back(*k - offset);
         return true;
     }
@@ -125,7 +131,7 @@ private:
                 if (!put(x, v.position.x(), rule_unit) || !put(y, v.position.y(), rule_unit)) return false;
                 symbol.push_back(v.symbol);
                 if (v.symbol) {
-                    if (!put(transform, v.transform.scale, frame_scale_unit) || !put(transform, v.transform.rotation_deg, frame_degree_unit)) return false;
+                    if (!put(transform, v.transform.scale, frame_scale_unit, 0, 1) || !put(transform, v.transform.rotation_deg, frame_degree_unit)) return false;
                 } else if (v.transform != Frame{}) {
                     return false;
                 }
@@ -162,7 +168,7 @@ private:
             nonterminals.push_back(static_cast<std::int64_t>(i) - previous);
             previous = static_cast<std::int64_t>(i);
             symbol.push_back(v.symbol);
-            if (!put(frames, v.frame.scale, axiom_scale_unit) || !put(frames, v.frame.rotation_deg, frame_degree_unit)) return false;
+            if (!put(frames, v.frame.scale, axiom_scale_unit, 0, 1) || !put(frames, v.frame.rotation_deg, frame_degree_unit)) return false;
         }
         out = {{"x", std::move(x)}, {"y", std::move(y)}, {"nonterminals", std::move(nonterminals)}, {"symbol", std::move(symbol)},
                {"frames", std::move(frames)}, {"edges", edge_steps(g_.axiom_edges)}};
@@ -182,9 +188,17 @@ private:
             queue.push_back(id);
             return true;
         };
+        bool axiom_has_nonterminal = false;
+        for (const AxiomVertex& v : g_.axiom_vertices) axiom_has_nonterminal |= v.symbol != 0;
+        // The reader gives one entry per axiom vertex (-1 for a street vertex) exactly when
+        // the axiom has a nonterminal.
+        if (enc.axiom_instances.size() != (axiom_has_nonterminal ? g_.axiom_vertices.size() : 0)) return false;
         for (std::size_t i = 0; i < g_.axiom_vertices.size(); ++i) {
-            if (!g_.axiom_vertices[i].symbol) continue;
-            if (enc.axiom_instances.size() != g_.axiom_vertices.size() || !visit(enc.axiom_instances[i])) return false;
+            if (!g_.axiom_vertices[i].symbol) {
+                if (axiom_has_nonterminal && enc.axiom_instances[i] != -1) return false;
+                continue;
+            }
+            if (!visit(enc.axiom_instances[i])) return false;
         }
         while (!queue.empty()) {
             const std::int32_t id = queue.front();
@@ -201,7 +215,13 @@ private:
             }
             if (!any_nonterminal && !inst.children.empty()) return false;
         }
-        return order.size() == enc.instances.size();
+        if (order.size() != enc.instances.size()) return false;
+        // Numbered in that order already (the encoder does so): the packed form implies the
+        // numbers, and a grammar must read back as it was written.
+        for (std::size_t n = 0; n < order.size(); ++n) {
+            if (order[n] != static_cast<std::int32_t>(n)) return false;
+        }
+        return true;
     }
 
     bool pack_instances(json& out) {
@@ -218,7 +238,7 @@ private:
             if (n < axiom_nonterminals) {
                 // The axiom's instances take its frames as they are.
                 if (inst.correction != Frame{} || inst.shift != Vec2::Zero()) return false;
-            } else if (!put(correction, inst.correction.scale, correction_scale_unit, static_cast<std::int64_t>(correction_scale_unit)) ||
+            } else if (!put(correction, inst.correction.scale, correction_scale_unit, static_cast<std::int64_t>(correction_scale_unit), 1) ||
                        !put(correction, inst.correction.rotation_deg, correction_degree_unit) || !put(shift, inst.shift.x(), quantum_) ||
                        !put(shift, inst.shift.y(), quantum_)) {
                 return false;
@@ -230,6 +250,16 @@ private:
             const auto code = tolerance_code(inst.tolerance_m);
             if (!code) return false;
             tolerance.push_back(*code);
+            const Rule& rule = *g_.rule_for(inst.symbol);
+            for (const std::int32_t p : inst.rule_points) {
+                if (p < 0) return false;
+            }
+            for (const RuleInstance::Link& l : inst.embedding) {
+                if (l.vertex < 0 || static_cast<std::size_t>(l.vertex) >= rule.vertices.size()) return false;
+            }
+            for (const auto& [edge, highway] : inst.edge_classes) {
+                if (edge < 0 || static_cast<std::size_t>(edge) >= rule.edges.size()) return false;
+            }
             rule_points.push_back(inst.rule_points.size());
             for (const std::int32_t p : inst.rule_points) rule_points.push_back(p);
             embedding.push_back(inst.embedding.size());
