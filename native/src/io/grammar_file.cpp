@@ -291,14 +291,7 @@ Grammar grammar_from_json(const json& doc, const std::string& name) {
     }
     if (version.get<std::int64_t>() == io_detail::packed_grammar_version) return io_detail::unpack_grammar(doc, name);
     Grammar g;
-    if (const json* n = r.optional(doc, "name")) {
-        if (!n->is_string()) r.fail("name", "must be a string");
-        g.name = n->get<std::string>();
-    }
-    if (const json* o = r.optional(doc, "origin_latlon")) {
-        if (!o->is_array() || o->size() != 2) r.fail("origin_latlon", "must be [latitude, longitude]");
-        g.origin = {r.number((*o)[0], "origin_latlon[0]"), r.number((*o)[1], "origin_latlon[1]")};
-    }
+    io_detail::read_grammar_header(r, doc, g);
     // Symbols: those declared, then the left sides of the rules.
     std::map<std::string, Symbol> symbol_of;
     auto declare = [&](const std::string& s, const std::string& where) {

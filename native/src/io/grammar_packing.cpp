@@ -31,6 +31,26 @@ double from_steps(std::int64_t k, double inverse) {
     return static_cast<double>(k) * std::round(1.0 / inverse);
 }
 
+double one_digit_decimal(double mantissa, int exponent) {
+    return exponent >= 0 ? mantissa * std::pow(10.0, exponent) : mantissa / std::pow(10.0, -exponent);
+}
+
+int cbor_bytes(std::int64_t k) {
+    const std::uint64_t a = k >= 0 ? static_cast<std::uint64_t>(k) : static_cast<std::uint64_t>(-(k + 1));
+    return a < 24 ? 1 : a < 256 ? 2 : a < 65536 ? 3 : a < 4294967296ULL ? 5 : 9;
+}
+
+void read_grammar_header(const JsonReader<GrammarError>& r, const json& doc, Grammar& g) {
+    if (const json* n = r.optional(doc, "name")) {
+        if (!n->is_string()) r.fail("name", "must be a string");
+        g.name = n->get<std::string>();
+    }
+    if (const json* o = r.optional(doc, "origin_latlon")) {
+        if (!o->is_array() || o->size() != 2) r.fail("origin_latlon", "must be [latitude, longitude]");
+        g.origin = {r.number((*o)[0], "origin_latlon[0]"), r.number((*o)[1], "origin_latlon[1]")};
+    }
+}
+
 namespace {
 
 // The value `x` as a count of steps of 1/inverse (inverse a power of ten), when that count
@@ -42,10 +62,6 @@ std::optional<std::int64_t> steps(double x, double inverse) {
     return k;
 }
 
-// A one-digit decimal m × 10^e (the tolerances), coded as one small integer.
-double one_digit_decimal(int mantissa, int exponent) {
-    return exponent >= 0 ? mantissa * std::pow(10.0, exponent) : mantissa / std::pow(10.0, -exponent);
-}
 // 0 = none; m × 10^e is 9e + m for e >= 0 (1 to 9 m: 1 to 9) and 9e + m - 9 below (all
 // negative), so that the usual tolerances take one byte of CBOR.
 std::optional<std::int64_t> tolerance_code(double t) {
@@ -54,7 +70,7 @@ std::optional<std::int64_t> tolerance_code(double t) {
     const int e = static_cast<int>(std::floor(std::log10(t)));
     for (int exponent : {e - 1, e, e + 1}) {
         const auto m = static_cast<int>(std::llround(t / std::pow(10.0, exponent)));
-        if (m >= 1 && m <= 9 && exponent >= -30 && exponent <= 30 && one_digit_decimal(m, exponent) == t) {
+        if (m >= 1 && m <= 9 && exponent >= -30 && exponent <= 30 && one_digit_decimal(static_cast<double>(m), exponent) == t) {
             return 9 * exponent + m - (exponent < 0 ? 9 : 0);
         }
     }
@@ -66,7 +82,7 @@ std::optional<double> tolerance_of_code(std::int64_t code) {
     const auto e = static_cast<int>(code > 0 ? (code - 1) / 9 : -((-code) / 9));
     const auto m = static_cast<int>(code - 9 * e + (e < 0 ? 9 : 0));
     if (m < 1 || m > 9) return std::nullopt;
-    return one_digit_decimal(m, e);
+    return one_digit_decimal(static_cast<double>(m), e);
 }
 
 class Packer {
@@ -377,14 +393,7 @@ struct Cursor {
 Grammar unpack_grammar(const json& doc, const std::string& name) {
     const Unpacker r(name);
     Grammar g;
-    if (const json* n = r.optional(doc, "name")) {
-        if (!n->is_string()) r.fail("name", "must be a string");
-        g.name = n->get<std::string>();
-    }
-    if (const json* o = r.optional(doc, "origin_latlon")) {
-        if (!o->is_array() || o->size() != 2) r.fail("origin_latlon", "must be [latitude, longitude]");
-        g.origin = {r.number((*o)[0], "origin_latlon[0]"), r.number((*o)[1], "origin_latlon[1]")};
-    }
+    read_grammar_header(r, doc, g);
     const json& symbols = r.array(r.member(doc, "symbols", "file"), "symbols");
     for (std::size_t i = 0; i < symbols.size(); ++i) {
         if (!symbols[i].is_string() || symbols[i].get<std::string>().empty() || symbols[i].get<std::string>() == "terminal") {

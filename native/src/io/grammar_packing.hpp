@@ -12,6 +12,7 @@
 
 #include "ggg/grammar/grammar.hpp"
 #include "ggg/graph/geometric_graph.hpp"
+#include "json_util.hpp"
 
 namespace ggg::io_detail {
 
@@ -30,6 +31,13 @@ nlohmann::json pack_graph(const GeometricGraph& graph, double quantum_m);
 
 // The fixed-unit integers of the packed form: `k` steps of 1 / inverse (a power of ten).
 double from_steps(std::int64_t k, double inverse);
+// The one-digit decimal m × 10^e (the tolerances), computed as the reader computes it.
+double one_digit_decimal(double mantissa, int exponent);
+// Bytes of an integer in CBOR.
+int cbor_bytes(std::int64_t k);
+
+// The name and origin of a grammar file, read the same way in either version.
+void read_grammar_header(const JsonReader<GrammarError>& reader, const nlohmann::json& document, Grammar& grammar);
 // Edges as (step of the first end from the previous edge's, second end minus first, class).
 nlohmann::json edge_steps(const std::vector<GrammarEdge>& edges);
 
