@@ -16,7 +16,6 @@
 #include "ggg/grammar/grammar.hpp"
 #include "ggg/graph/geometric_graph.hpp"
 #include "ggg/progress.hpp"
-#include "../io/grammar_packing.hpp"
 
 namespace ggg::encoding_detail {
 
@@ -61,10 +60,16 @@ inline Frame correction_of(Complex z) { return {std::max(round_to(std::abs(z), 1
 // 1 / quantum as the exact power of ten (1.0 / 1e-6 is not exactly 1e6).
 inline double inverse_of(double quantum) { return std::pow(10.0, std::round(-std::log10(quantum))); }
 
-// The packed grammar file's numbers (one_digit_decimal, cbor_bytes, pack_graph): the encoder
-// rounds as the file stores, and prices a rule in the file's bytes.
-using io_detail::cbor_bytes;
-using io_detail::one_digit_decimal;
+// The one-digit decimal m × 10^e, computed as the packed grammar file reads it back.
+inline double one_digit_decimal(double mantissa, int exponent) {
+    return exponent >= 0 ? mantissa * std::pow(10.0, exponent) : mantissa / std::pow(10.0, -exponent);
+}
+
+// Bytes of an integer in CBOR.
+inline double cbor_bytes(std::int64_t k) {
+    const std::uint64_t a = k >= 0 ? static_cast<std::uint64_t>(k) : static_cast<std::uint64_t>(-(k + 1));
+    return a < 24 ? 1 : a < 256 ? 2 : a < 65536 ? 3 : a < 4294967296ULL ? 5 : 9;
+}
 
 // A vertex of a level's graph: a street vertex of the input, or a nonterminal standing for
 // an instance.

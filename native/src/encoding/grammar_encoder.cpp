@@ -67,9 +67,20 @@ void Encoder::start_level_graph() {
     }
     // What a vertex and an edge cost in the packed graph (io/grammar_packing.cpp): the
     // yardstick of what a rule saves.
-    const nlohmann::json packed = io_detail::pack_graph(input_, options_.quantum_m);
-    const auto vertex_bytes = static_cast<double>(nlohmann::json::to_cbor(packed["x"]).size() + nlohmann::json::to_cbor(packed["y"]).size());
-    const auto edge_bytes = static_cast<double>(nlohmann::json::to_cbor(packed["edges"]).size());
+    const double inverse = inverse_of(options_.quantum_m);
+    double vertex_bytes = 0.0, edge_bytes = 0.0;
+    std::int64_t px = 0, py = 0, previous = 0;
+    for (const Vec2& p : input_.positions) {
+        const auto x = std::llround(p.x() * inverse), y = std::llround(p.y() * inverse);
+        vertex_bytes += cbor_bytes(x - px) + cbor_bytes(y - py);
+        px = x;
+        py = y;
+    }
+    for (std::size_t e = 0; e < input_.edge_count(); ++e) {
+        const auto [u, v] = input_.edges[e];
+        edge_bytes += cbor_bytes(u - previous) + cbor_bytes(static_cast<std::int64_t>(v) - u) + 1;
+        previous = u;
+    }
     if (input_.vertex_count()) vertex_bytes_ = vertex_bytes / static_cast<double>(input_.vertex_count());
     if (input_.edge_count()) edge_bytes_ = edge_bytes / static_cast<double>(input_.edge_count());
 }
