@@ -25,15 +25,14 @@ pytestmark = pytest.mark.skipif(not bench_infill.OSM.is_dir(),
 def test_a_hole_grown_back_meets_the_targets(city, seeds):
     for row in bench_infill.measure(city, seeds):
         where = "{} seed {}: {}".format(city, row["seed"], row)
-        # The target is 0.6 to 1.6; the Marais' small hole (53 streets) is filled up to 1.75 times
-        # today (docs/synthesis.md: a hole is grown at the density of the streets around it).
-        assert 0.6 <= row["fill"] <= (1.8 if city == "paris_marais.osm.pbf" else 1.6), where
+        # Tracing keeps to the density of the streets around the hole (docs/synthesis.md).
+        assert 0.6 <= row["fill"] <= 1.6, where
         assert row["joined"] >= 0.98, where
         assert row["stars"] <= 0.01, where
         assert row["right"] >= row["real_right"] - 0.08, where
         # Dead ends are counted inside the hole. The Marais' hole has none and about 45 inner
-        # vertices: one grown dead end is 0.02, and up to three are left today.
-        assert row["dead"] <= row["real_dead"] + (0.08 if city == "paris_marais.osm.pbf" else 0.05), where
+        # vertices: one grown dead end is 0.02.
+        assert row["dead"] <= row["real_dead"] + 0.05, where
         assert row["mean"] <= 1.5 * row["ring_mean"], where
         assert row["crossings"] == 0, where
         assert row["shared_places"] == 0, where  # one vertex per place

@@ -131,7 +131,8 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
     consistent_frames(group, occs, fits, transforms);
     lr.frame_rejected += before - occs.size();
     if (occs.size() < min_count) return;
-    if (take == Take::paying && packed_gain(group, occs, fits, adj) <= 0) return;
+    const double gain = packed_gain(group, occs, fits, adj);
+    if (take == Take::paying && gain <= 0) return;
 
     const int rep = representative_vertex(graph_, adj, occs);
     RuleDraft draft;
@@ -195,6 +196,7 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
     std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
     draft.rule.size_m = round_to(sizes[sizes.size() / 2], 100);
     lr.instances += occs.size();
+    lr.bytes_saved += gain;
     ++lr.rules;
     rules_.push_back(std::move(draft));
     rotations_.push_back(static_cast<int>(std::max<std::size_t>(1, symmetries.size())));

@@ -78,6 +78,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"traced_streets", r.traced_streets},
         {"traced_joined", r.traced_joined},
         {"traced_t_junctions", r.traced_t_junctions},
+        {"traced_dense", r.traced_dense},
         {"traced_across", r.traced_across},
         {"added_vertices", r.added_vertices},
         {"added_edges", r.added_edges},
@@ -121,6 +122,7 @@ nlohmann::json learn_report(const GeometricGraph& input, const LearnResult& resu
                           {"frame_rejected", l.frame_rejected},
                           {"shape_rejected", l.shape_rejected},
                           {"error_rejected", l.error_rejected},
+                          {"bytes_saved", std::lround(l.bytes_saved)},
                           {"seconds", l.seconds}});
     }
     const RoundTrip& rt = result.roundtrip;

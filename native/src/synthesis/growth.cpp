@@ -96,6 +96,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_streets = traced.streets;
         report.traced_joined = traced.joined;
         report.traced_t_junctions = traced.t_junctions;
+        report.traced_dense = traced.dense;
         report.traced_across = traced.across;
         if (traced.streets > 0) reindex();
         if (g_.vertex_count() >= o_.max_vertices) report.stopped_by_budget = true;

@@ -121,22 +121,69 @@ void Grower::prune_stubs() {
     std::vector<double> lengths;
     for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) lengths.push_back(g_.edge_length(static_cast<EdgeId>(e)));
     std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
-    const double shortest = o_.prune_stubs * lengths[lengths.size() / 2];
-    std::vector<char> drop_vertex(g_.vertex_count(), 0), drop_edge(g_.edge_count(), 0);
-    std::size_t dropped = 0;
-    for (std::size_t e = base_edges_; e < g_.edge_count(); ++e) {
-        const auto [a, b] = g_.edges[e];
-        for (const VertexId end : {a, b}) {
-            const VertexId other = end == a ? b : a;
-            if (static_cast<std::size_t>(end) < base_vertices_ || adjacency_[static_cast<std::size_t>(end)].size() != 1) continue;
-            // Not a street of its own (both ends loose), and not the last street of a vertex.
-            if (adjacency_[static_cast<std::size_t>(other)].size() < 3) continue;
-            if (g_.edge_length(static_cast<EdgeId>(e)) >= shortest) continue;
-            drop_vertex[static_cast<std::size_t>(end)] = 1;
-            drop_edge[e] = 1;
-            ++dropped;
-            break;
+    const double typical = lengths[lengths.size() / 2];
+    const double shortest = o_.prune_stubs * typical;
+    // The grown dead-end streets that could go: from a grown dead end along grown bends (the
+    // vertices of two streets) to a junction of three streets or more, by length.
+    struct Stub {
+        double length = 0.0;
+        std::vector<VertexId> vertices; // the dead end and the bends
+        std::vector<EdgeId> edges;
+        VertexId junction = -1;
+    };
+    std::vector<std::vector<EdgeId>> edges_at(g_.vertex_count());
+    for (std::size_t e = 0; e < g_.edge_count(); ++e) {
+        for (const VertexId x : g_.edges[e]) edges_at[static_cast<std::size_t>(x)].push_back(static_cast<EdgeId>(e));
+    }
+    std::vector<Stub> stubs;
+    for (std::size_t v = base_vertices_; v < g_.vertex_count(); ++v) {
+        if (edges_at[v].size() != 1) continue;
+        Stub stub;
+        VertexId at = static_cast<VertexId>(v);
+        EdgeId along = edges_at[v][0];
+        for (;;) {
+            stub.vertices.push_back(at);
+            stub.edges.push_back(along);
+            stub.length += g_.edge_length(along);
+            const auto [a, b] = g_.edges[static_cast<std::size_t>(along)];
+            const VertexId next = a == at ? b : a;
+            const auto& next_edges = edges_at[static_cast<std::size_t>(next)];
+            if (static_cast<std::size_t>(along) < base_edges_) break; // (never a base street)
+            if (next_edges.size() >= 3) {
+                stub.junction = next;
+                break;
+            }
+            // Not a street of its own (both ends loose), and not through the base.
+            if (next_edges.size() != 2 || static_cast<std::size_t>(next) < base_vertices_ || stub.edges.size() > 64) break;
+            at = next;
+            along = next_edges[0] == along ? next_edges[1] : next_edges[0];
         }
+        if (stub.junction >= 0) stubs.push_back(std::move(stub));
+    }
+    std::sort(stubs.begin(), stubs.end(), [](const Stub& x, const Stub& y) { return x.length < y.length; });
+    // The short ones go. So do longer ones, up to two typical streets, while the grown streets
+    // have more dead ends than the city has around the region: a district that ends in the
+    // open more often than its city does not look like it.
+    std::size_t grown_vertices = 0, grown_dead_ends = 0;
+    for (std::size_t v = base_vertices_; v < g_.vertex_count(); ++v) {
+        grown_vertices += !edges_at[v].empty();
+        grown_dead_ends += edges_at[v].size() == 1;
+    }
+    const double allowed = city_dead_end_share(2.0 * typical);
+    std::vector<char> drop_vertex(g_.vertex_count(), 0), drop_edge(g_.edge_count(), 0);
+    std::vector<std::size_t> lost(g_.vertex_count(), 0); // streets a junction lost
+    std::size_t dropped = 0;
+    for (const Stub& stub : stubs) {
+        // A junction that lost a stub already may have become a bend.
+        if (edges_at[static_cast<std::size_t>(stub.junction)].size() - lost[static_cast<std::size_t>(stub.junction)] < 3) continue;
+        const bool too_many = static_cast<double>(grown_dead_ends) > allowed * static_cast<double>(grown_vertices);
+        if (stub.length >= shortest && !(too_many && stub.length < 2.0 * typical)) break;
+        for (const VertexId x : stub.vertices) drop_vertex[static_cast<std::size_t>(x)] = 1;
+        for (const EdgeId e : stub.edges) drop_edge[static_cast<std::size_t>(e)] = 1;
+        ++lost[static_cast<std::size_t>(stub.junction)];
+        --grown_dead_ends;
+        grown_vertices -= stub.vertices.size();
+        ++dropped;
     }
     if (dropped == 0) return;
     std::vector<growth_detail::Street> streets;
@@ -156,6 +203,29 @@ void Grower::prune_stubs() {
         around[static_cast<std::size_t>(b)].push_back(a);
     }
     adjacency_ = std::move(around);
+}
+
+double Grower::city_dead_end_share(double margin) const {
+    // The base's vertices near the region (within half its size beyond `margin`),
+    // away from its border, where the cut left the severed streets' ends, and from the
+    // extract's edges, where the map was cut.
+    Vec2 lo = g_.positions[0], hi = lo;
+    for (std::size_t v = 0; v < base_vertices_; ++v) lo = lo.cwiseMin(g_.positions[v]), hi = hi.cwiseMax(g_.positions[v]);
+    Vec2 rlo = region_.front(), rhi = rlo;
+    for (const Vec2& p : region_) rlo = rlo.cwiseMin(p), rhi = rhi.cwiseMax(p);
+    const double reach = margin + 0.5 * (rhi - rlo).maxCoeff();
+    std::size_t vertices = 0, dead_ends = 0;
+    for (std::size_t v = 0; v < base_vertices_; ++v) {
+        const Vec2 p = g_.positions[v];
+        if (adjacency_[v].empty() || (p - lo).minCoeff() < margin || (hi - p).minCoeff() < margin) continue;
+        if (inside(region_, p)) continue;
+        const double d = distance_to_ring(region_, p);
+        if (d < margin || d > reach) continue;
+        ++vertices;
+        dead_ends += adjacency_[v].size() == 1;
+    }
+    // Too few to say: as many as a street's two ends would allow.
+    return vertices >= 20 ? static_cast<double>(dead_ends) / static_cast<double>(vertices) : 1.0;
 }
 
 bool Grower::join_street_ahead(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes) {

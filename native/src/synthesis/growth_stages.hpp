@@ -128,10 +128,17 @@ private:
     // crosses nothing: streets meet the ones around instead of stopping short.
     void close_dead_ends();
 
-    // Grown dead ends shorter than o_.prune_stubs times the typical grown street are cut off:
-    // they are the ends of rules' streets that led on to a neighbouring block in the city and
-    // that nothing was grown onto. One pass, so that a street is shortened by one stub at most.
+    // Grown dead-end streets (from the dead end through its bends to a junction) shorter than
+    // o_.prune_stubs times the typical grown street are cut off: they are the ends of rules'
+    // streets that led on to a neighbouring block in the city and that nothing was grown
+    // onto. Longer ones, up to two typical streets, shortest first, go too while the grown
+    // streets have a larger share of dead ends than the city around the region. One pass,
+    // so that a street is shortened by one stub at most.
     void prune_stubs();
+
+    // The share of dead ends among the base's vertices around the region, `margin` metres
+    // clear of it and of the extract's edges (1 where there are too few to say).
+    double city_dead_end_share(double margin) const;
 
     // The dead end v continued straight ahead onto the first street it meets within reach,
     // when that is a grown street and the meeting point keeps its distance from the street's

@@ -31,6 +31,15 @@ Tracer::Tracer(GeometricGraph& g, std::size_t base_vertices, const GeometricGrap
         main_examples_.clear();
         other_examples_.clear();
         learn_examples(city, std::numeric_limits<double>::infinity());
+        measure_density(city, std::numeric_limits<double>::infinity());
+    } else {
+        // The density of the ground next to the region, which says best how dense the streets
+        // it continues are (a city's parts differ: a port beside a grid of houses); further
+        // out where there is too little of it.
+        for (double band = 3.0 * typical_; band <= 2.0 * size; band *= 2) {
+            measure_density(g_, band);
+            if (density_cells_ >= 64) break;
+        }
     }
 }
 
@@ -90,6 +99,13 @@ void Tracer::trace(const Street& s) {
     if (degree(s.from) >= 4) return;
     std::vector<Vec2> line = lay(s);
     if (line.size() < 2 || clearance(s.from, line[1] - line[0]) < min_angle_) return;
+    // A street is traced only where the streets around are not yet as dense as the city's.
+    // The streets that join the city always are, and so is one street on from each street's
+    // end: a dead end only where the city's junctions have them.
+    if (s.generation > 0 && degree(s.from) >= 2 && denser_than_city(line)) {
+        ++report_.dense;
+        return;
+    }
     // Where the example is a bend of the street (a junction with one street on, of the same
     // class), the street goes on without a junction: a vertex of degree two would only
     // split one street in two. `open` is the line up to its last such bend.

@@ -26,6 +26,7 @@ struct TracingReport {
     std::size_t joined = 0;       // streets that ended at a junction already there
     std::size_t t_junctions = 0;  // streets that ended on a street, split there
     std::size_t dropped = 0;      // streets that fitted nowhere
+    std::size_t dense = 0;        // streets not traced: the streets around were as dense as the city's
     std::size_t across = 0;       // streets joined straight across to a street that faces them
 };
 

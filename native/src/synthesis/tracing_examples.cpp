@@ -108,6 +108,64 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
     if (angles > 0) right_share_ = static_cast<double>(right) / static_cast<double>(angles);
 }
 
+void Tracer::measure_density(const GeometricGraph& city, double radius) {
+    // Cells of a typical street's size, around the region (within `radius`) and outside it,
+    // that have a street vertex in them or next to them: the ground the city covers. Ground
+    // its map does not cover (beyond the extract, or across a gap between two cities) would
+    // make the city look sparser than it is; its own squares and parks, up to three cells
+    // across, count.
+    const double cell = typical_;
+    Vec2 lo = city.positions[0], hi = lo;
+    for (const Vec2& p : city.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    if (std::isfinite(radius)) {
+        Vec2 rlo = region_.front(), rhi = rlo;
+        for (const Vec2& p : region_) rlo = rlo.cwiseMin(p), rhi = rhi.cwiseMax(p);
+        lo = lo.cwiseMax(rlo - Vec2(radius, radius));
+        hi = hi.cwiseMin(rhi + Vec2(radius, radius));
+    }
+    const auto columns = static_cast<long>(std::ceil((hi.x() - lo.x()) / cell)) + 1;
+    const auto rows = static_cast<long>(std::ceil((hi.y() - lo.y()) / cell)) + 1;
+    if (columns <= 0 || rows <= 0 || columns * rows > 4'000'000) return;
+    auto cell_of = [&](const Vec2& p) -> long {
+        const auto i = static_cast<long>(std::floor((p.x() - lo.x()) / cell)), j = static_cast<long>(std::floor((p.y() - lo.y()) / cell));
+        return i < 0 || j < 0 || i >= columns || j >= rows ? -1 : j * columns + i;
+    };
+    std::vector<char> has_vertex(static_cast<std::size_t>(columns * rows), 0);
+    for (const Vec2& p : city.positions) {
+        if (const long c = cell_of(p); c >= 0) has_vertex[static_cast<std::size_t>(c)] = 1;
+    }
+    std::vector<char> counted(has_vertex.size(), 0);
+    std::size_t cells = 0;
+    for (long j = 0; j < rows; ++j) {
+        for (long i = 0; i < columns; ++i) {
+            const Vec2 centre = lo + Vec2((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell);
+            // Cells the region's border runs through are partly the region's (empty) ground.
+            if (inside(region_, centre) || distance_to_ring(region_, centre) < 0.75 * cell ||
+                (std::isfinite(radius) && distance_to_ring(region_, centre) > radius)) {
+                continue;
+            }
+            bool covered = false;
+            for (long dj = -1; dj <= 1 && !covered; ++dj) {
+                for (long di = -1; di <= 1 && !covered; ++di) {
+                    const long a = i + di, b = j + dj;
+                    covered = a >= 0 && b >= 0 && a < columns && b < rows && has_vertex[static_cast<std::size_t>(b * columns + a)];
+                }
+            }
+            if (covered) counted[static_cast<std::size_t>(j * columns + i)] = 1, ++cells;
+        }
+    }
+    double length = 0.0;
+    for (std::size_t e = 0; e < city.edge_count(); ++e) {
+        const Vec2* p = city.geometry_begin(static_cast<EdgeId>(e));
+        for (std::size_t k = 0; k + 1 < city.geometry_size(static_cast<EdgeId>(e)); ++k) {
+            if (const long c = cell_of(0.5 * (p[k] + p[k + 1])); c >= 0 && counted[static_cast<std::size_t>(c)]) length += (p[k + 1] - p[k]).norm();
+        }
+    }
+    // Too little ground to say (a few cells): no cap.
+    density_ = cells >= 16 ? length / (static_cast<double>(cells) * cell * cell) : 0.0;
+    density_cells_ = cells;
+}
+
 void Tracer::pick_common_class(const std::vector<std::size_t>& class_counts) {
     const auto most = std::max_element(class_counts.begin(), class_counts.end());
     if (*most > 0) common_class_ = static_cast<HighwayClass>(most - class_counts.begin());

@@ -110,6 +110,10 @@ private:
     // The junctions of `city` within `radius` of the region, each seen from each of its streets.
     void learn_examples(const GeometricGraph& city, double radius);
 
+    // How many metres of street the city has per square metre of the ground it covers around
+    // the region (density_; 0 where there is too little to say).
+    void measure_density(const GeometricGraph& city, double radius);
+
     // The class of a new side street: the examples' most common one.
     void pick_common_class(const std::vector<std::size_t>& class_counts);
 
@@ -171,6 +175,11 @@ private:
         std::size_t piece = 0;
     };
     std::optional<Near> nearest_street(const Vec2& p, double within, VertexId besides) const;
+
+    // Whether the streets around the line, with it, would be denser than the city's: a
+    // street is traced only where the ground around it still has fewer streets than the city
+    // has on as much ground, so that a grown district is as dense as the city it continues.
+    bool denser_than_city(const std::vector<Vec2>& line) const;
 
     // A vertex, a street (counted in the report) and a street split at `where` (the new
     // junction returned), with the adjacency and the indexes kept up.
@@ -280,6 +289,8 @@ private:
     HighwayClass common_class_ = HighwayClass::residential; // of the examples' streets: that of a new side street
     double typical_ = 50.0; // median street of the examples, end to end
     double long_ = 100.0;   // their 90th percentile
+    double density_ = 0.0;  // metres of street per square metre around the region (0: no cap)
+    std::size_t density_cells_ = 0; // cells of ground it was measured on
     double expected_streets_ = 1.0;
     const double min_angle_ = M_PI / 6;
     // No new junction within this many typical streets of another: the spacing of junctions.

@@ -143,13 +143,14 @@ struct GrowReport {
     std::size_t traced_streets = 0;     // streets added by tracing
     std::size_t traced_joined = 0;      // traced streets that ended at a junction already there
     std::size_t traced_t_junctions = 0; // traced streets that ended on a street, split there
+    std::size_t traced_dense = 0;       // streets not traced: the streets around were already as dense as the city's
     std::size_t traced_across = 0;      // streets of the base joined straight across to one facing them
     std::size_t added_vertices = 0;
     std::size_t added_edges = 0;
     std::size_t border_connections = 0; // placements that started from a base street
     std::size_t closing_edges = 0;      // dead ends joined at the end to a vertex ahead
     std::size_t t_junctions = 0;        // dead ends joined at the end to a grown street ahead, split there
-    std::size_t pruned_stubs = 0;       // short grown dead ends cut off at the end
+    std::size_t pruned_stubs = 0;       // grown dead-end streets cut off at the end: the short ones, and longer ones while the grown streets end in the open more often than the city's
     std::size_t dissolved_vertices = 0; // grown vertices between two grown streets of one class (and nothing else), made bends of one street
     std::size_t removed_crossing_streets = 0; // grown streets taken out again because they crossed a street
     std::size_t main_road_routes = 0;   // main roads joined through the grown streets
