@@ -169,7 +169,8 @@ void Grower::prune_stubs() {
         grown_vertices += !edges_at[v].empty();
         grown_dead_ends += edges_at[v].size() == 1;
     }
-    const double allowed = city_dead_end_share(2.0 * typical);
+    // (Where there is too little city to say, only the short ones go.)
+    const double allowed = city_dead_end_share(2.0 * typical).value_or(1.0);
     std::vector<char> drop_vertex(g_.vertex_count(), 0), drop_edge(g_.edge_count(), 0);
     std::vector<std::size_t> lost(g_.vertex_count(), 0); // streets a junction lost
     std::size_t dropped = 0;
@@ -205,7 +206,7 @@ void Grower::prune_stubs() {
     adjacency_ = std::move(around);
 }
 
-double Grower::city_dead_end_share(double margin) const {
+std::optional<double> Grower::city_dead_end_share(double margin) const {
     // The base's vertices near the region (within half its size beyond `margin`),
     // away from its border, where the cut left the severed streets' ends, and from the
     // extract's edges, where the map was cut.
@@ -224,8 +225,8 @@ double Grower::city_dead_end_share(double margin) const {
         ++vertices;
         dead_ends += adjacency_[v].size() == 1;
     }
-    // Too few to say: as many as a street's two ends would allow.
-    return vertices >= 20 ? static_cast<double>(dead_ends) / static_cast<double>(vertices) : 1.0;
+    if (vertices < 20) return std::nullopt; // too few to say
+    return static_cast<double>(dead_ends) / static_cast<double>(vertices);
 }
 
 bool Grower::join_street_ahead(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes) {

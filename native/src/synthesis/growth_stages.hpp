@@ -137,8 +137,8 @@ private:
     void prune_stubs();
 
     // The share of dead ends among the base's vertices around the region, `margin` metres
-    // clear of it and of the extract's edges (1 where there are too few to say).
-    double city_dead_end_share(double margin) const;
+    // clear of it and of the extract's edges; none where there are too few to say.
+    std::optional<double> city_dead_end_share(double margin) const;
 
     // The dead end v continued straight ahead onto the first street it meets within reach,
     // when that is a grown street and the meeting point keeps its distance from the street's
