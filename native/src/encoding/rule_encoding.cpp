@@ -207,10 +207,11 @@ double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector
     const Pattern& pattern = group.pattern;
     const std::size_t k = pattern.positions.size();
     // An instance at the top: its nonterminal's position, index and symbol, its frame
-    // (scale and rotation), correction, shift, tolerance and three counts.
-    const double instance_bytes = vertex_bytes_ + 17.0;
-    // A link (rule vertex, aim, class) where the graph has an edge.
-    const double link_bytes = 6.0;
+    // (scale and rotation), correction, shift, tolerance and its count of links (rule points
+    // and class changes are stored only where an instance has them).
+    const double instance_bytes = vertex_bytes_ + 15.0;
+    // A link (rule vertex and class in one number, aim) where the graph has an edge.
+    const double link_bytes = 5.0;
     const double inverse = inverse_of(options_.quantum_m);
     std::size_t street_edges = 0;
     for (const auto& [a, b] : pattern.edges) street_edges += !pattern.symbols[static_cast<std::size_t>(a)] && !pattern.symbols[static_cast<std::size_t>(b)];

@@ -94,7 +94,7 @@ json encoding_json(const Encoding& enc) {
 } // namespace
 
 json grammar_to_json(const Grammar& g) {
-    // A learned grammar is data: packed (version 2) wherever its values fit the packed units.
+    // A learned grammar is data: packed (version 3) wherever its values fit the packed units.
     if (!g.encoding.empty()) {
         if (auto packed = io_detail::pack_grammar(g)) return std::move(*packed);
     }
@@ -289,7 +289,8 @@ Grammar grammar_from_json(const json& doc, const std::string& name) {
         r.fail("version", std::to_string(version.get<std::int64_t>()) + " is newer than this program reads (" +
                               std::to_string(grammar_file_version) + "); update ggg");
     }
-    if (version.get<std::int64_t>() == io_detail::packed_grammar_version) return io_detail::unpack_grammar(doc, name);
+    // Versions 2 and 3 are packed (3 stores rare columns sparsely); 1 is the column form.
+    if (version.get<std::int64_t>() >= 2) return io_detail::unpack_grammar(doc, name);
     Grammar g;
     io_detail::read_grammar_header(r, doc, g);
     // Symbols: those declared, then the left sides of the rules.

@@ -1,5 +1,7 @@
 #include "grammar_packing.hpp"
 
+#include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <deque>
@@ -246,9 +248,31 @@ private:
         if (!derivation_order(order)) return false;
         const bool lossless = enc.mode == "lossless";
         json correction = json::array(), shift = json::array(), residuals = json::array(), tolerance = json::array(),
-             rule_points = json::array(), embedding = json::array(), classes = json::array();
+             rule_points = json::array(), embedding = json::array(), classes = json::array(), link_classes = json::array();
         std::size_t axiom_nonterminals = 0;
         for (const AxiomVertex& v : g_.axiom_vertices) axiom_nonterminals += v.symbol != 0;
+        // The links' classes, most common first: a link stores its rule vertex and its class's
+        // rank in one number, which for most links is one byte.
+        std::array<std::size_t, highway_class_count> class_uses{};
+        for (const RuleInstance& inst : enc.instances) {
+            for (const RuleInstance::Link& l : inst.embedding) {
+                if (static_cast<std::size_t>(l.point.highway) >= highway_class_count) return false;
+                ++class_uses[static_cast<std::size_t>(l.point.highway)];
+            }
+        }
+        std::vector<int> by_use;
+        for (std::size_t c = 0; c < highway_class_count; ++c) {
+            if (class_uses[c]) by_use.push_back(static_cast<int>(c));
+        }
+        std::stable_sort(by_use.begin(), by_use.end(), [&](int a, int b) { return class_uses[static_cast<std::size_t>(a)] > class_uses[static_cast<std::size_t>(b)]; });
+        std::array<std::int64_t, highway_class_count> rank{};
+        for (std::size_t r = 0; r < by_use.size(); ++r) {
+            rank[static_cast<std::size_t>(by_use[r])] = static_cast<std::int64_t>(r);
+            link_classes.push_back(by_use[r]);
+        }
+        // Rule points and class changes are rare: stored only for the instances that have
+        // them, each as (step from the previous such instance, count, entries).
+        std::size_t last_points = 0, last_classes = 0;
         for (std::size_t n = 0; n < order.size(); ++n) {
             const RuleInstance& inst = enc.instances[static_cast<std::size_t>(order[n])];
             if (n < axiom_nonterminals) {
@@ -276,22 +300,29 @@ private:
             for (const auto& [edge, highway] : inst.edge_classes) {
                 if (edge < 0 || static_cast<std::size_t>(edge) >= rule.edges.size()) return false;
             }
-            rule_points.push_back(inst.rule_points.size());
-            for (const std::int32_t p : inst.rule_points) rule_points.push_back(p);
+            if (!inst.rule_points.empty()) {
+                rule_points.insert(rule_points.end(), {n - last_points, inst.rule_points.size()});
+                for (const std::int32_t p : inst.rule_points) rule_points.push_back(p);
+                last_points = n;
+            }
             embedding.push_back(inst.embedding.size());
-            if (!inst.embedding.empty() && !pack_links(inst.embedding, embedding)) return false;
-            classes.push_back(inst.edge_classes.size());
-            for (const auto& [edge, highway] : inst.edge_classes) classes.insert(classes.end(), {edge, static_cast<int>(highway)});
+            if (!inst.embedding.empty() && !pack_links(inst.embedding, rule.vertices.size(), rank, embedding)) return false;
+            if (!inst.edge_classes.empty()) {
+                classes.insert(classes.end(), {n - last_classes, inst.edge_classes.size()});
+                for (const auto& [edge, highway] : inst.edge_classes) classes.insert(classes.end(), {edge, static_cast<int>(highway)});
+                last_classes = n;
+            }
         }
         out = {{"correction", std::move(correction)}, {"shift", std::move(shift)}, {"residuals", std::move(residuals)},
                {"tolerance", std::move(tolerance)}, {"rule_points", std::move(rule_points)}, {"embedding", std::move(embedding)},
-               {"edge_classes", std::move(classes)}};
+               {"link_classes", std::move(link_classes)}, {"edge_classes", std::move(classes)}};
         return true;
     }
 
     // An instance's own points are rounded to a power of ten that depends on its tolerance
     // and its frame: the coarsest power that holds them all exactly is stored first.
-    static bool pack_links(const std::vector<RuleInstance::Link>& links, json& out) {
+    static bool pack_links(const std::vector<RuleInstance::Link>& links, std::size_t rule_vertices,
+                           const std::array<std::int64_t, highway_class_count>& rank, json& out) {
         for (int exponent = -6; exponent <= 12; ++exponent) {
             const double inverse = std::pow(10.0, exponent);
             json packed = json::array();
@@ -302,7 +333,8 @@ private:
                     exact = false;
                     break;
                 }
-                packed.insert(packed.end(), {json(l.vertex), json(*kx), json(*ky), json(static_cast<int>(l.point.highway))});
+                const std::int64_t code = l.vertex + static_cast<std::int64_t>(rule_vertices) * rank[static_cast<std::size_t>(l.point.highway)];
+                packed.insert(packed.end(), {json(code), json(*kx), json(*ky)});
             }
             if (!exact) continue;
             out.push_back(exponent);
@@ -524,6 +556,16 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     Cursor rule_points = column(enc_doc, "rule_points", "encoding", JsonReader<GrammarError>::any_size);
     Cursor links = column(enc_doc, "embedding", "encoding", JsonReader<GrammarError>::any_size);
     Cursor classes = column(enc_doc, "edge_classes", "encoding", JsonReader<GrammarError>::any_size);
+    // Version 3 stores rule points and class changes only for the instances that have them,
+    // and a link's rule vertex and class (by rank in link_classes) as one number.
+    const bool sparse = doc.at("version").get<std::int64_t>() >= 3;
+    Cursor link_classes = column(enc_doc, "link_classes", "encoding", JsonReader<GrammarError>::any_size);
+    if (!sparse && !link_classes.values.empty()) r.fail("encoding.link_classes", "is not part of version 2");
+    std::vector<HighwayClass> link_class;
+    for (std::size_t c = 0; c < link_classes.values.size(); ++c) link_class.push_back(static_cast<HighwayClass>(link_classes.take(0, class_max)));
+    constexpr std::int64_t none = INT64_MAX;
+    auto first_group = [&](Cursor& c) { return c.next < c.values.size() ? c.take(0, INT32_MAX) : none; };
+    std::int64_t points_at = sparse ? first_group(rule_points) : none, classes_at = sparse ? first_group(classes) : none;
     enc.instances.resize(instance_count);
     std::size_t next_id = 0;
     auto claim = [&](Symbol s, const std::string& where) {
@@ -555,24 +597,37 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
         const auto tolerance_m = tolerance_of_code(tolerance.take());
         if (!tolerance_m) r.fail(where + ".tolerance", "not a tolerance code");
         inst.tolerance_m = *tolerance_m;
-        const auto point_count = rule_points.take(0, INT32_MAX);
+        const auto instance = static_cast<std::int64_t>(k);
+        // Sparse (version 3): an entry for this instance when the next group names it.
+        const auto point_count = !sparse ? rule_points.take(0, INT32_MAX) : points_at == instance ? rule_points.take(1, INT32_MAX) : 0;
         for (std::int64_t j = 0; j < point_count; ++j) inst.rule_points.push_back(static_cast<std::int32_t>(rule_points.take(0, INT32_MAX)));
+        if (sparse && points_at == instance) points_at = rule_points.next < rule_points.values.size() ? instance + rule_points.take(1, INT32_MAX) : none;
         const auto link_count = links.take(0, INT32_MAX);
         if (link_count) {
             const double inverse = std::pow(10.0, static_cast<double>(links.take(-6, 12)));
             for (std::int64_t j = 0; j < link_count; ++j) {
                 RuleInstance::Link l;
-                l.vertex = static_cast<std::int32_t>(links.take(0, static_cast<std::int64_t>(rule.vertices.size()) - 1));
-                l.point.offset = {from_steps(links.take(), inverse), from_steps(links.take(), inverse)};
-                l.point.highway = static_cast<HighwayClass>(links.take(0, class_max));
+                const auto k_vertices = static_cast<std::int64_t>(rule.vertices.size());
+                if (sparse) {
+                    if (link_class.empty()) r.fail("encoding.embedding", "has links, but encoding.link_classes is empty");
+                    const std::int64_t code = links.take(0, k_vertices * static_cast<std::int64_t>(link_class.size()) - 1);
+                    l.vertex = static_cast<std::int32_t>(code % k_vertices);
+                    l.point.highway = link_class[static_cast<std::size_t>(code / k_vertices)];
+                    l.point.offset = {from_steps(links.take(), inverse), from_steps(links.take(), inverse)};
+                } else {
+                    l.vertex = static_cast<std::int32_t>(links.take(0, k_vertices - 1));
+                    l.point.offset = {from_steps(links.take(), inverse), from_steps(links.take(), inverse)};
+                    l.point.highway = static_cast<HighwayClass>(links.take(0, class_max));
+                }
                 inst.embedding.push_back(l);
             }
         }
-        const auto class_count = classes.take(0, INT32_MAX);
+        const auto class_count = !sparse ? classes.take(0, INT32_MAX) : classes_at == instance ? classes.take(1, INT32_MAX) : 0;
         for (std::int64_t j = 0; j < class_count; ++j) {
             const auto edge = static_cast<std::int32_t>(classes.take(0, static_cast<std::int64_t>(rule.edges.size()) - 1));
             inst.edge_classes.emplace_back(edge, static_cast<HighwayClass>(classes.take(0, class_max)));
         }
+        if (sparse && classes_at == instance) classes_at = classes.next < classes.values.size() ? instance + classes.take(1, INT32_MAX) : none;
         bool has_nonterminal = false;
         for (const RuleVertex& v : rule.vertices) has_nonterminal |= v.symbol != 0;
         if (has_nonterminal) {
@@ -580,6 +635,8 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
         }
     }
     if (next_id != instance_count) r.fail("encoding", std::to_string(instance_count - next_id) + " instances more than the nonterminals they rewrite");
+    if (points_at != none) r.fail("encoding.rule_points", "names instance " + std::to_string(points_at) + ", past the last");
+    if (classes_at != none) r.fail("encoding.edge_classes", "names instance " + std::to_string(classes_at) + ", past the last");
     for (const Cursor* c : {&axiom_edges, &correction, &shift, &residuals, &tolerance, &rule_points, &links, &classes}) c->finish();
     try {
         validate(g);

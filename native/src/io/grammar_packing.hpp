@@ -1,5 +1,6 @@
 #pragma once
-// The packed form of a learned grammar (grammar file version 2, docs/grammar-format.md):
+// The packed form of a learned grammar (grammar file version 3, docs/grammar-format.md; the
+// reader takes version 2 too, whose rule points, class changes and links are stored densely):
 // every number an integer in a fixed unit, columns instead of objects, and nothing stored
 // that the derivation already knows (an instance's symbol, which instance rewrites which
 // nonterminal). The same document is written as JSON text or as CBOR, so that a grammar's
@@ -16,7 +17,7 @@
 
 namespace ggg::io_detail {
 
-inline constexpr int packed_grammar_version = 2;
+inline constexpr int packed_grammar_version = 3;
 
 // The packed document of a learned grammar, or nothing when the grammar holds something the
 // packed form has no place for (a value off its unit, a nonterminal without its instance):
