@@ -44,3 +44,11 @@ def test_learned_summary():
     assert "axiom 10 vertices, 1 edge" in line and "5,000 -> 1,200 bytes" in line and "same edges" in line
     stats["roundtrip"] = {"edges_equal": False, "missing_edges": 2, "extra_edges": 1}
     assert "2 edges missing, 1 extra" in text.learned_summary("town", stats, 1.0)
+
+
+def test_size_lines():
+    stats = {"bytes": {"original": 5000, "encoded": 4000, "original_cbor": 2500, "encoded_cbor": 1900},
+             "per_level": [{"level": 1, "rules": 3, "bytes_saved": 12_345}, {"level": 2, "rules": 1, "bytes_saved": -40}]}
+    assert text.size_lines(stats) == ["JSON: 5,000 \u2192 4,000 bytes (0.80\u00d7)", "CBOR: 2,500 \u2192 1,900 bytes (0.76\u00d7)",
+                                      "Pass 1: 3 rules, saves 12.3k bytes", "Pass 2: 1 rule, costs 40 bytes"]
+    assert text.size_lines({}) == []

@@ -70,3 +70,19 @@ def learned_summary(name, stats, seconds):
         plural(axiom.get("vertices", 0), "vertex"), plural(axiom.get("edges", 0), "edge"),
         size.get("original", 0), size.get("encoded", 0), edges, roundtrip.get("max_displacement_m", 0.0),
         roundtrip.get("mean_displacement_m", 0.0))
+
+
+def size_lines(stats):
+    """The sizes of a learned grammar against its graph, from the ``stats`` of ggg.learn, as
+    panel lines: the JSON and CBOR files, then what each pass of learning saved."""
+    size = stats.get("bytes", {})
+    lines = []
+    for label, original, encoded in (("JSON", "original", "encoded"), ("CBOR", "original_cbor", "encoded_cbor")):
+        if size.get(original):
+            lines.append("{}: {:,} \u2192 {:,} bytes ({:.2f}\u00d7)".format(
+                label, size[original], size.get(encoded, 0), size.get(encoded, 0) / size[original]))
+    for level in stats.get("per_level", []):
+        saved = level.get("bytes_saved", 0)
+        lines.append("Pass {}: {}, {} {} bytes".format(level.get("level", 0), plural(level.get("rules", 0), "rule"),
+                                                       "saves" if saved >= 0 else "costs", compact(abs(saved))))
+    return lines

@@ -4,7 +4,7 @@ from the active road graph: its numbers, the level shown (a slider) and its rule
 
 from bpy.types import Panel, UIList
 
-from ..core.text import compact, plural
+from ..core.text import compact, plural, size_lines
 from ..data import analysis, texts
 from ..data.roads import road_graph_object
 from ..display import rules
@@ -75,13 +75,13 @@ class VIEW3D_PT_roads_learned_rules(RoadsTab, Panel):
         stats = result.stats_dict()
         roundtrip = stats.get("roundtrip", {})
         axiom = stats.get("axiom", {})
-        size = stats.get("bytes", {})
         col = layout.column(align=True)
         col.label(text="{}, {}, {:.2f} s".format(plural(len(result.rules), "rule"),
                                                   plural(result.levels, "level"), result.seconds))
         col.label(text="{} ({})".format(plural(stats.get("instances", 0), "instance"), result.mode))
         col.label(text="Axiom: {:,} v, {:,} e".format(axiom.get("vertices", 0), axiom.get("edges", 0)))
-        col.label(text="Size: {:,} \u2192 {:,} bytes".format(size.get("original", 0), size.get("encoded", 0)))
+        for line in size_lines(stats):
+            col.label(text=line)
         col.label(text="Round trip: {}, max {:.3g} m".format(
             "same edges" if roundtrip.get("edges_equal") else "edges differ",
             roundtrip.get("max_displacement_m", 0.0)), icon='CHECKMARK' if roundtrip.get("edges_equal") else 'ERROR')
