@@ -484,6 +484,10 @@ def test_panels_draw(town, ggg):
     text = draw_panel(learning_ui.VIEW3D_PT_roads_learned_rules)
     assert "{}, {}".format(plural(stats["rules"], "rule"), plural(stats["levels"], "level")) in text
     assert "Round trip: same edges" in text and "sample_city.grammar.json" in text
+    # The sizes in both encodings, and what each pass saved.
+    assert "JSON: {:,} \u2192 {:,} bytes".format(stats["bytes"]["original"], stats["bytes"]["encoded"]) in text
+    assert "CBOR: {:,} \u2192".format(stats["bytes"]["original_cbor"]) in text
+    assert "Pass 1: {}".format(plural(stats["per_level"][0]["rules"], "rule")) in text
     assert "of {}".format(stats["levels"]) in text and "Not the scene's grammar" not in text
     item = result.rules[0]
     assert "{} (symbol {}), level {}".format(item.name, item.symbol, item.level) in text

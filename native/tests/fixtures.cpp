@@ -6,6 +6,8 @@
 #include <cmath>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
 #include <fstream>
 #include <numeric>
 #include <sstream>
@@ -16,11 +18,33 @@ namespace ggg::test {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// A new folder for each test process, never one left by an earlier process with the same pid
+// (a test that counts the files of its folder would count theirs too). Removed when the
+// process ends; GGG_KEEP_TEST_FILES=1 keeps it, to look at. (Kept in storage that is never
+// destroyed, so that it is still there when the removal runs at exit.)
+const fs::path& temp_folder() {
+    static const fs::path* dir = [] {
+        std::string name = (fs::temp_directory_path() / ("ggg_tests_" + std::to_string(getpid()) + "_XXXXXX")).string();
+        if (!::mkdtemp(name.data())) throw std::runtime_error("cannot make a temporary folder: " + name);
+        return new fs::path(name);
+    }();
+    return *dir;
+}
+
+void remove_temp_folder() {
+    std::error_code ignored;
+    fs::remove_all(temp_folder(), ignored);
+}
+
+} // namespace
+
 std::string temp_path(const std::string& suffix) {
     static int counter = 0;
-    const fs::path dir = fs::temp_directory_path() / ("ggg_tests_" + std::to_string(getpid()));
-    fs::create_directories(dir);
-    return (dir / ("f" + std::to_string(counter++) + suffix)).string();
+    static const bool cleaned_at_exit = [] { return std::getenv("GGG_KEEP_TEST_FILES") == nullptr && std::atexit(remove_temp_folder) == 0; }();
+    (void)cleaned_at_exit;
+    return (temp_folder() / ("f" + std::to_string(counter++) + suffix)).string();
 }
 
 std::string temp_file(const std::string& content, const std::string& suffix) {
