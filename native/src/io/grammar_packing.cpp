@@ -420,6 +420,31 @@ struct Cursor {
     }
 };
 
+// A column of version 3 stored only for the instances that have entries: groups of (step from
+// the previous such instance, count ≥ 1, entries). In version 2 every instance has its count.
+struct Groups {
+    Cursor& c;
+    bool sparse;
+    std::int64_t at = -1; // the instance the next group is for; -1: none left
+
+    Groups(Cursor& column, bool sparse_groups) : c(column), sparse(sparse_groups) {
+        if (sparse && c.next < c.values.size()) at = c.take(0, INT32_MAX);
+    }
+    // How many entries instance k has; the cursor then stands at them.
+    std::int64_t count(std::int64_t k) {
+        if (!sparse) return c.take(0, INT32_MAX);
+        return at == k ? c.take(1, INT32_MAX) : 0;
+    }
+    // After instance k's entries were taken.
+    void done(std::int64_t k) {
+        if (sparse && at == k) at = c.next < c.values.size() ? k + c.take(1, INT32_MAX) : -1;
+    }
+    void finish() const {
+        if (at >= 0) c.r.fail(c.where, "names instance " + std::to_string(at) + ", past the last");
+        c.finish();
+    }
+};
+
 } // namespace
 
 Grammar unpack_grammar(const json& doc, const std::string& name) {
@@ -563,9 +588,7 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     if (!sparse && !link_classes.values.empty()) r.fail("encoding.link_classes", "is not part of version 2");
     std::vector<HighwayClass> link_class;
     for (std::size_t c = 0; c < link_classes.values.size(); ++c) link_class.push_back(static_cast<HighwayClass>(link_classes.take(0, class_max)));
-    constexpr std::int64_t none = INT64_MAX;
-    auto first_group = [&](Cursor& c) { return c.next < c.values.size() ? c.take(0, INT32_MAX) : none; };
-    std::int64_t points_at = sparse ? first_group(rule_points) : none, classes_at = sparse ? first_group(classes) : none;
+    Groups point_groups(rule_points, sparse), class_groups(classes, sparse);
     enc.instances.resize(instance_count);
     std::size_t next_id = 0;
     auto claim = [&](Symbol s, const std::string& where) {
@@ -598,18 +621,17 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
         if (!tolerance_m) r.fail(where + ".tolerance", "not a tolerance code");
         inst.tolerance_m = *tolerance_m;
         const auto instance = static_cast<std::int64_t>(k);
-        // Sparse (version 3): an entry for this instance when the next group names it.
-        const auto point_count = !sparse ? rule_points.take(0, INT32_MAX) : points_at == instance ? rule_points.take(1, INT32_MAX) : 0;
+        const auto point_count = point_groups.count(instance);
         for (std::int64_t j = 0; j < point_count; ++j) inst.rule_points.push_back(static_cast<std::int32_t>(rule_points.take(0, INT32_MAX)));
-        if (sparse && points_at == instance) points_at = rule_points.next < rule_points.values.size() ? instance + rule_points.take(1, INT32_MAX) : none;
+        point_groups.done(instance);
         const auto link_count = links.take(0, INT32_MAX);
         if (link_count) {
             const double inverse = std::pow(10.0, static_cast<double>(links.take(-6, 12)));
+            const auto k_vertices = static_cast<std::int64_t>(rule.vertices.size());
+            if (sparse && link_class.empty()) r.fail("encoding.embedding", "has links, but encoding.link_classes is empty");
             for (std::int64_t j = 0; j < link_count; ++j) {
                 RuleInstance::Link l;
-                const auto k_vertices = static_cast<std::int64_t>(rule.vertices.size());
                 if (sparse) {
-                    if (link_class.empty()) r.fail("encoding.embedding", "has links, but encoding.link_classes is empty");
                     const std::int64_t code = links.take(0, k_vertices * static_cast<std::int64_t>(link_class.size()) - 1);
                     l.vertex = static_cast<std::int32_t>(code % k_vertices);
                     l.point.highway = link_class[static_cast<std::size_t>(code / k_vertices)];
@@ -622,12 +644,12 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
                 inst.embedding.push_back(l);
             }
         }
-        const auto class_count = !sparse ? classes.take(0, INT32_MAX) : classes_at == instance ? classes.take(1, INT32_MAX) : 0;
+        const auto class_count = class_groups.count(instance);
         for (std::int64_t j = 0; j < class_count; ++j) {
             const auto edge = static_cast<std::int32_t>(classes.take(0, static_cast<std::int64_t>(rule.edges.size()) - 1));
             inst.edge_classes.emplace_back(edge, static_cast<HighwayClass>(classes.take(0, class_max)));
         }
-        if (sparse && classes_at == instance) classes_at = classes.next < classes.values.size() ? instance + classes.take(1, INT32_MAX) : none;
+        class_groups.done(instance);
         bool has_nonterminal = false;
         for (const RuleVertex& v : rule.vertices) has_nonterminal |= v.symbol != 0;
         if (has_nonterminal) {
@@ -635,9 +657,9 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
         }
     }
     if (next_id != instance_count) r.fail("encoding", std::to_string(instance_count - next_id) + " instances more than the nonterminals they rewrite");
-    if (points_at != none) r.fail("encoding.rule_points", "names instance " + std::to_string(points_at) + ", past the last");
-    if (classes_at != none) r.fail("encoding.edge_classes", "names instance " + std::to_string(classes_at) + ", past the last");
-    for (const Cursor* c : {&axiom_edges, &correction, &shift, &residuals, &tolerance, &rule_points, &links, &classes}) c->finish();
+    point_groups.finish();
+    class_groups.finish();
+    for (const Cursor* c : {&axiom_edges, &correction, &shift, &residuals, &tolerance, &links}) c->finish();
     try {
         validate(g);
     } catch (const GrammarError& e) {

@@ -148,7 +148,6 @@ void Grower::prune_stubs() {
             const auto [a, b] = g_.edges[static_cast<std::size_t>(along)];
             const VertexId next = a == at ? b : a;
             const auto& next_edges = edges_at[static_cast<std::size_t>(next)];
-            if (static_cast<std::size_t>(along) < base_edges_) break; // (never a base street)
             if (next_edges.size() >= 3) {
                 stub.junction = next;
                 break;
@@ -210,15 +209,13 @@ std::optional<double> Grower::city_dead_end_share(double margin) const {
     // The base's vertices near the region (within half its size beyond `margin`),
     // away from its border, where the cut left the severed streets' ends, and from the
     // extract's edges, where the map was cut.
-    Vec2 lo = g_.positions[0], hi = lo;
-    for (std::size_t v = 0; v < base_vertices_; ++v) lo = lo.cwiseMin(g_.positions[v]), hi = hi.cwiseMax(g_.positions[v]);
-    Vec2 rlo = region_.front(), rhi = rlo;
-    for (const Vec2& p : region_) rlo = rlo.cwiseMin(p), rhi = rhi.cwiseMax(p);
-    const double reach = margin + 0.5 * (rhi - rlo).maxCoeff();
+    const auto base_end = g_.positions.begin() + static_cast<std::ptrdiff_t>(base_vertices_);
+    const Eigen::AlignedBox2d extent = bounds(g_.positions.begin(), base_end);
+    const double reach = margin + 0.5 * bounds(region_.begin(), region_.end()).sizes().maxCoeff();
     std::size_t vertices = 0, dead_ends = 0;
     for (std::size_t v = 0; v < base_vertices_; ++v) {
         const Vec2 p = g_.positions[v];
-        if (adjacency_[v].empty() || (p - lo).minCoeff() < margin || (hi - p).minCoeff() < margin) continue;
+        if (adjacency_[v].empty() || (p - extent.min()).minCoeff() < margin || (extent.max() - p).minCoeff() < margin) continue;
         if (inside(region_, p)) continue;
         const double d = distance_to_ring(region_, p);
         if (d < margin || d > reach) continue;

@@ -34,11 +34,10 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
     long_ = lengths[9 * lengths.size() / 10];
     // The city's own edges are not examples: its dead ends there are where its map was cut
     // (the extract's border, or this very region when it was cut out of the city).
-    Vec2 lo = city.positions[0], hi = city.positions[0];
-    for (const Vec2& p : city.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    const Eigen::AlignedBox2d extent = bounds(city.positions.begin(), city.positions.end());
     auto at_a_border = [&](const Vec2& p) {
         const double margin = typical_;
-        if ((p - lo).minCoeff() < margin || (hi - p).minCoeff() < margin) return true;
+        if ((p - extent.min()).minCoeff() < margin || (extent.max() - p).minCoeff() < margin) return true;
         return inside(region_, p) || distance_to_ring(region_, p) < 1.5 * typical_;
     };
     std::vector<std::size_t> class_counts(highway_class_count, 0);
@@ -115,14 +114,13 @@ void Tracer::measure_density(const GeometricGraph& city, double radius) {
     // make the city look sparser than it is; its own squares and parks, up to three cells
     // across, count.
     const double cell = typical_;
-    Vec2 lo = city.positions[0], hi = lo;
-    for (const Vec2& p : city.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    Eigen::AlignedBox2d ground = bounds(city.positions.begin(), city.positions.end());
     if (std::isfinite(radius)) {
-        Vec2 rlo = region_.front(), rhi = rlo;
-        for (const Vec2& p : region_) rlo = rlo.cwiseMin(p), rhi = rhi.cwiseMax(p);
-        lo = lo.cwiseMax(rlo - Vec2(radius, radius));
-        hi = hi.cwiseMin(rhi + Vec2(radius, radius));
+        const Eigen::AlignedBox2d near = bounds(region_.begin(), region_.end());
+        ground = ground.intersection(Eigen::AlignedBox2d(near.min() - Vec2(radius, radius), near.max() + Vec2(radius, radius)));
     }
+    if (ground.isEmpty()) return;
+    const Vec2 lo = ground.min(), hi = ground.max();
     const auto columns = static_cast<long>(std::ceil((hi.x() - lo.x()) / cell)) + 1;
     const auto rows = static_cast<long>(std::ceil((hi.y() - lo.y()) / cell)) + 1;
     if (columns <= 0 || rows <= 0 || columns * rows > 4'000'000) return;

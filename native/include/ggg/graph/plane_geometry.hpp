@@ -9,12 +9,22 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "ggg/graph/geometric_graph.hpp"
 #include "ggg/graph/similarity.hpp"
 
 namespace ggg {
 
 inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// The smallest box holding the points from `first` to `last` (empty for none).
+template <typename It>
+Eigen::AlignedBox2d bounds(It first, It last) {
+    Eigen::AlignedBox2d box;
+    for (; first != last; ++first) box.extend(*first);
+    return box;
+}
 
 // Even-odd rule: a point on the border may count either way.
 inline bool inside(const std::vector<Vec2>& ring, const Vec2& p) {
