@@ -304,7 +304,7 @@ def measure(city, seeds):
             "deg2": c["a"]["degree2_share"], "real_deg2": c["b"]["degree2_share"],
             "through": c["a"]["through_share"], "real_through": c["b"]["through_share"],
             "circuity": c["a"]["circuity"], "real_circuity": c["b"]["circuity"],
-            "junction_angle": c["distances"]["junction_angle"],
+            "junction_angle": c["distances"]["junction_angle"], "distances": c["distances"],
             "mean": c["distances"]["mean"], "ring_mean": floor["distances"]["mean"],
             "crossings": crossings(grown, set(new_edges.tolist())),
             "shared_places": shared_places(grown) - shared_places(rest),

@@ -33,9 +33,7 @@ def test_a_hole_grown_back_meets_the_targets(city, seeds):
         # Dead ends are counted inside the hole. The Marais' hole has none and about 40 inner
         # vertices: one grown dead end is 0.025, and up to two are left today.
         assert row["dead"] <= row["real_dead"] + (0.06 if city == "paris_marais.osm.pbf" else 0.05), where
-        # Columbus' hole is its dense centre, and growth keeps to the density of the ground next
-        # to it: 1.48-1.52 times the ring's distance today (docs/synthesis.md).
-        assert row["mean"] <= (1.6 if city == "columbus_oh.osm.pbf" else 1.5) * row["ring_mean"], where
+        assert row["mean"] <= 1.5 * row["ring_mean"], where
         assert row["crossings"] == 0, where
         assert row["shared_places"] == 0, where  # one vertex per place
         assert row["continued"] >= 0.85, where

@@ -54,6 +54,10 @@ GeometricGraph Grower::run(GrowReport& report) {
             // A dead end joined to the street ahead splits a block in two: both halves
             // must be of the city's usual size (its lower quartile at least).
             split_block_m2_ = std::max(min_block_m2_, blocks[(blocks.size() - 1) / 4]);
+            // Of the blocks above the sliver floor, the share below that size.
+            const auto from = std::lower_bound(blocks.begin(), blocks.end(), min_block_m2_);
+            const auto to = std::lower_bound(blocks.begin(), blocks.end(), split_block_m2_);
+            if (from != blocks.end()) small_block_share_ = static_cast<double>(to - from) / static_cast<double>(blocks.end() - from);
         }
     } else {
         for (const Prototype& p : prototypes_) {
@@ -89,7 +93,9 @@ GeometricGraph Grower::run(GrowReport& report) {
         growth_detail::TracingSettings tracing;
         tracing.border_m = border;
         tracing.max_vertices = o_.max_vertices;
-        tracing.min_block_m2 = split_block_m2_;
+        tracing.min_block_m2 = min_block_m2_;
+        tracing.usual_block_m2 = split_block_m2_;
+        tracing.small_block_share = small_block_share_;
         const GeometricGraph& style = grammar_.encoding.empty() ? base_copy_for_style() : style_city_;
         const growth_detail::TracingReport traced = growth_detail::trace_streets(g_, base_vertices_, style, region_, tracing, rng_, progress_);
         report.traced_seeds = traced.seeds;

@@ -176,6 +176,7 @@ private:
     bool grid_city_ = false;
     double min_block_m2_ = 0.0;   // smallest block a placement may close (0: any)
     double split_block_m2_ = 0.0; // smallest half of a block that a T-junction may leave
+    double small_block_share_ = 0.0; // of the city's blocks above the sliver floor, those smaller than split_block_m2_
     std::optional<double> grid_angle_; // the grid the growth keeps to (modulo 90 degrees), once there is one
 };
 

@@ -113,9 +113,10 @@ void Tracer::trace(const Street& s) {
     for (int bends = 0;; ++bends) {
         const Settled settled = settle(s, line);
         if (settled == Settled::joined) return;
-        if (settled == Settled::dropped || nearest_vertex(line.back(), crowd_ * typical_, s.from)) {
+        const double crowd = spacing(crowd_ * typical_);
+        if (settled == Settled::dropped || nearest_vertex(line.back(), crowd, s.from)) {
             // Dropped: it ends at its last bend, if it had one.
-            if (!open.empty() && !nearest_vertex(open.back(), crowd_ * typical_, s.from)) open_end(s, open, nullptr, false);
+            if (!open.empty() && !nearest_vertex(open.back(), crowd, s.from)) open_end(s, open, nullptr, false);
             else if (s.generation == 0 && s.retries < 8) retry(s);
             else drop();
             return;

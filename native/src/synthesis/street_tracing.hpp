@@ -34,6 +34,10 @@ struct TracingSettings {
     double border_m = 0.0;            // a base street this close to the region reaches it
     std::size_t max_vertices = 0;     // the whole graph, base included
     double min_block_m2 = 0.0;        // no street closes a block smaller than this
+    // Blocks smaller than `usual_block_m2` (and not below `min_block_m2`) are closed only as
+    // often as the city has them: at most this share of the blocks that tracing closes.
+    double usual_block_m2 = 0.0;
+    double small_block_share = 0.0;
 };
 
 // Adds the traced streets to `g` (whose first `base_vertices` vertices are the base). `city`

@@ -8,7 +8,7 @@
 
 namespace ggg::growth_detail::tracing {
 
-bool Tracer::fits_to_vertex(VertexId from, const std::vector<Vec2>& line, VertexId to) const {
+bool Tracer::fits_to_vertex(VertexId from, const std::vector<Vec2>& line, VertexId to) {
     if (to == from || degree(to) >= 4 || adjacent(from, to)) return false;
     if (first_hit(line, from, to)) return false;
     const Vec2 arrive = line[line.size() - 2] - line.back();
@@ -45,6 +45,9 @@ bool Tracer::end_at(const Street& s, const std::vector<Vec2>& line, VertexId w) 
 
 Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
     const double snap = 0.3 * typical_;
+    // A junction this close is joined rather than met beside it: less where the city's share of
+    // short streets allows one more.
+    const double join = spacing(snap);
 
     // A street it crosses: it stops there, at the junction near by or a new one.
     if (const auto hit = first_hit(line, s.from)) {
@@ -52,10 +55,10 @@ Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
         cut.push_back(hit->where);
         double travelled = 0.0;
         for (std::size_t k = 1; k < cut.size(); ++k) travelled += (cut[k] - cut[k - 1]).norm();
-        if (travelled < 0.25 * typical_ || leaves_region_inside_line(cut)) return Settled::dropped;
+        if (travelled < spacing(0.25 * typical_) || leaves_region_inside_line(cut)) return Settled::dropped;
         const auto [a, b] = g_.edges[static_cast<std::size_t>(hit->edge)];
         for (const VertexId end : {a, b}) {
-            if ((g_.positions[static_cast<std::size_t>(end)] - hit->where).norm() < snap) {
+            if ((g_.positions[static_cast<std::size_t>(end)] - hit->where).norm() < join) {
                 return end_at(s, cut, end) ? Settled::joined : Settled::dropped;
             }
         }
@@ -80,7 +83,7 @@ Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
         return w && end_at(s, line, *w) ? Settled::joined : Settled::dropped;
     }
     // A junction near its end: it ends there.
-    if (const auto w = nearest_vertex(end, snap, s.from)) return end_at(s, line, *w) ? Settled::joined : Settled::dropped;
+    if (const auto w = nearest_vertex(end, join, s.from)) return end_at(s, line, *w) ? Settled::joined : Settled::dropped;
     // A street near its end: it meets it.
     if (const auto near = nearest_street(end, snap, s.from)) {
         const EdgeId e = near->edge;
@@ -88,14 +91,21 @@ Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
         squared(s, to_x, e, near->piece);
         const Vec2 x = to_x.back();
         const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
-        const bool room = (g_.positions[static_cast<std::size_t>(a)] - x).norm() > snap && (g_.positions[static_cast<std::size_t>(b)] - x).norm() > snap;
+        const bool room = (g_.positions[static_cast<std::size_t>(a)] - x).norm() > join && (g_.positions[static_cast<std::size_t>(b)] - x).norm() > join;
         if (room && inside(region_, x) && static_cast<std::size_t>(e) >= fixed_edges_ && !first_hit(to_x, s.from, -1, e) && !(s_.min_block_m2 > 0 && splits_small_block(s.from, e, x))) {
             const VertexId junction = split(e, x);
             add_street(s.from, junction, to_x, s.highway);
             ++report_.t_junctions;
             return Settled::joined;
         }
+        // No room beside the junction there: it ends at it, as it would without short streets.
+        if (join < snap) {
+            if (const auto w = nearest_vertex(end, snap, s.from)) return end_at(s, line, *w) ? Settled::joined : Settled::dropped;
+        }
         return Settled::dropped;
+    }
+    if (join < snap) {
+        if (const auto w = nearest_vertex(end, snap, s.from)) return end_at(s, line, *w) ? Settled::joined : Settled::dropped;
     }
     return Settled::open;
 }

@@ -32,6 +32,10 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
     typical_ = std::max(1.0, lengths[lengths.size() / 2]);
     std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(9 * lengths.size() / 10), lengths.end());
     long_ = lengths[9 * lengths.size() / 10];
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 20), lengths.end());
+    shortest_ = lengths[lengths.size() / 20];
+    short_share_ = static_cast<double>(std::count_if(lengths.begin(), lengths.end(), [&](double l) { return l < crowd_ * typical_; })) /
+                   static_cast<double>(lengths.size());
     // The city's own edges are not examples: its dead ends there are where its map was cut
     // (the extract's border, or this very region when it was cut out of the city).
     const Eigen::AlignedBox2d extent = bounds(city.positions.begin(), city.positions.end());

@@ -103,7 +103,18 @@ bool Tracer::leaves_region_inside_line(const std::vector<Vec2>& line) const {
     return false;
 }
 
-bool Tracer::closes_small_block(VertexId v, VertexId w) const {
+bool Tracer::small_blocks(double left, double right) {
+    auto below = [](double area, double floor) { return area > 0 && area < floor; };
+    if (below(left, s_.min_block_m2) || below(right, s_.min_block_m2)) return true;
+    if (left <= 0 && right <= 0) return false;
+    const bool small = below(left, s_.usual_block_m2) || below(right, s_.usual_block_m2);
+    if (small && static_cast<double>(small_blocks_closed_ + 1) > s_.small_block_share * static_cast<double>(blocks_closed_ + 1)) return true;
+    ++blocks_closed_;
+    if (small) ++small_blocks_closed_;
+    return false;
+}
+
+bool Tracer::closes_small_block(VertexId v, VertexId w) {
     if (s_.min_block_m2 <= 0) return false;
     auto neighbours = [&](VertexId x) -> std::vector<VertexId> {
         std::vector<VertexId> out;
@@ -112,9 +123,7 @@ bool Tracer::closes_small_block(VertexId v, VertexId w) const {
         if (x == w) out.push_back(v);
         return out;
     };
-    const double left = block_left_of(g_.positions, neighbours, v, w);
-    const double right = block_left_of(g_.positions, neighbours, w, v);
-    return (left > 0 && left < s_.min_block_m2) || (right > 0 && right < s_.min_block_m2);
+    return small_blocks(block_left_of(g_.positions, neighbours, v, w), block_left_of(g_.positions, neighbours, w, v));
 }
 
 bool Tracer::splits_small_block(VertexId v, EdgeId e, const Vec2& x) {
@@ -136,7 +145,7 @@ bool Tracer::splits_small_block(VertexId v, EdgeId e, const Vec2& x) {
     const double left = block_left_of(positions, neighbours, v, x_id);
     const double right = block_left_of(positions, neighbours, x_id, v);
     positions.pop_back();
-    return (left > 0 && left < s_.min_block_m2) || (right > 0 && right < s_.min_block_m2);
+    return small_blocks(left, right);
 }
 
 std::optional<VertexId> Tracer::nearest_vertex(const Vec2& p, double within, VertexId besides) const {
@@ -187,6 +196,12 @@ void Tracer::add_street(VertexId v, VertexId w, const std::vector<Vec2>& line, H
     adjacency_[static_cast<std::size_t>(w)].push_back(e);
     index_edge(e);
     ++report_.streets;
+    count_street(g_.positions[static_cast<std::size_t>(v)], g_.positions[static_cast<std::size_t>(w)]);
+}
+
+void Tracer::count_street(const Vec2& a, const Vec2& b) {
+    ++streets_made_;
+    if ((b - a).norm() < crowd_ * typical_) ++short_made_;
 }
 
 VertexId Tracer::split(EdgeId e, const Vec2& where) {
@@ -199,6 +214,10 @@ VertexId Tracer::split(EdgeId e, const Vec2& where) {
     std::replace(at_b.begin(), at_b.end(), e, second);
     adjacency_[static_cast<std::size_t>(x)] = {e, second};
     index_edge(second); // e stays indexed by its whole box, which holds its first half
+    // One street more, as long as the shorter of the two halves.
+    const Vec2 a_end = g_.positions[static_cast<std::size_t>(g_.edges[static_cast<std::size_t>(e)][0])];
+    const Vec2 b_end = g_.positions[static_cast<std::size_t>(b)];
+    count_street(where, (a_end - where).norm() < (b_end - where).norm() ? a_end : b_end);
     return x;
 }
 

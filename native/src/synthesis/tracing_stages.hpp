@@ -159,11 +159,16 @@ private:
     bool leaves_region_inside_line(const std::vector<Vec2>& line) const;
 
     // Whether a street from v to w (its polyline from v) would close a block smaller than allowed.
-    bool closes_small_block(VertexId v, VertexId w) const;
+    // Asked last, just before the street is added: a block it allows is counted as made.
+    bool closes_small_block(VertexId v, VertexId w);
 
     // Whether a street from v to a new junction at x on edge e would leave a block on either
-    // side smaller than allowed.
+    // side smaller than allowed. Asked last, as closes_small_block.
     bool splits_small_block(VertexId v, EdgeId e, const Vec2& x);
+
+    // Whether blocks of these areas (0: not a closed block) may be made: none below the
+    // sliver floor, small ones while they are no more common than in the city. Counts them.
+    bool small_blocks(double left, double right);
 
     // The vertex (with a street) nearest p within `within`, other than `besides`.
     std::optional<VertexId> nearest_vertex(const Vec2& p, double within, VertexId besides) const;
@@ -240,7 +245,7 @@ private:
 
     // Whether the street from `from` along `line` to the vertex `to` fits: crosses nothing,
     // leaves room at both ends and closes no sliver.
-    bool fits_to_vertex(VertexId from, const std::vector<Vec2>& line, VertexId to) const;
+    bool fits_to_vertex(VertexId from, const std::vector<Vec2>& line, VertexId to);
 
     // A street ending on a street nearly square to it meets it square (a T-junction), and one
     // at a slant does so as often as the city's junctions are right angles: its last point moves
@@ -297,6 +302,18 @@ private:
     const double crowd_ = 0.5;
     const double grid_tolerance_ = M_PI / 4;
     std::vector<char> across_; // per base vertex: joined across the region (join_across)
+    std::size_t blocks_closed_ = 0, small_blocks_closed_ = 0; // by tracing, for the city's share of small blocks
+    // Junctions closer than the usual spacing (crowd_, the snap of settle) are made only as
+    // often as the city has streets that short, and never closer than its shortest streets:
+    // offset crossings, short links and the blocks they close are part of a city's grain.
+    double short_share_ = 0.0;  // of the examples' streets, those shorter than crowd_ typical streets
+    double shortest_ = 0.0;     // their 5th percentile
+    std::size_t streets_made_ = 0, short_made_ = 0;
+    bool short_allowed() const { return static_cast<double>(short_made_ + 1) <= short_share_ * static_cast<double>(streets_made_ + 1); }
+    // The spacing kept from other junctions where `usual` is the rule: less while the city's
+    // share of short streets allows.
+    double spacing(double usual) const { return short_allowed() ? std::min(usual, std::max(shortest_, 1.0)) : usual; }
+    void count_street(const Vec2& a, const Vec2& b);
     std::vector<std::vector<EdgeId>> adjacency_;
     spatial::RTree<spatial::VertexEntry> vertices_;
     spatial::RTree<spatial::EdgeEntry> segments_;
