@@ -250,6 +250,55 @@ def crossings(graph, new_edges):
     return len(found)
 
 
+def cut_to_box(graph, lo, hi, shift=(0.0, 0.0)):
+    """The part of `graph` inside the box lo..hi, cut as a knife would (cut: a street that
+    crosses the box's border keeps its part inside, which ends there in a new dead end), moved
+    by `shift`. Returns the graph and the ids of those new dead ends."""
+    part, _, ends = cut(graph, (lo[0], lo[1], hi[0], hi[1]), keep_inside=True)
+    offsets, points = part.edge_geometry()
+    shift = np.asarray(shift, dtype=float)
+    moved = ggg.Graph.from_arrays(part.positions + shift, np.asarray(part.edges), part.origin_latlon,
+                                  edge_highway=np.asarray(part.edge_highway), edge_geometry=(offsets, points + shift))
+    return moved, ends
+
+
+def stitch(seed=1):
+    """The paper's Fig. 18 (docs/synthesis.md): a 1.2 km square of Barcelona's Eixample and one
+    of the Marais in Paris, 800 m apart, the gap grown from each side with the grammar of that
+    city, and their main roads continued across it. Returns a dict of the graphs of each step,
+    the reports, and `facing` (the dead ends the cuts made on the sides facing the gap) with
+    `reached`, how many of them continue into it."""
+    barcelona = ggg.read_graph(str(OSM / "barcelona_eixample.osm"))
+    paris = ggg.read_graph(str(OSM / "paris_marais.osm.pbf"))
+    grid_rules, _ = ggg.learn(barcelona)
+    old_rules, _ = ggg.learn(paris)
+    c_b, c_p = np.median(barcelona.positions, 0), np.median(paris.positions, 0)
+    half = np.array([600.0, 600.0])
+    west, west_ends = cut_to_box(barcelona, c_b - half, c_b + half, -c_b)            # centred on (0, 0)
+    east, east_ends = cut_to_box(paris, c_p - half, c_p + half, -c_p + [2000.0, 0.0])  # 2 km east of it
+    w_off, w_pts = west.edge_geometry()
+    e_off, e_pts = east.edge_geometry()
+    both = ggg.Graph.from_arrays(np.vstack([west.positions, east.positions]),
+                                 np.vstack([west.edges, east.edges + west.vertex_count]),
+                                 west.origin_latlon,
+                                 edge_highway=np.concatenate([west.edge_highway, east.edge_highway]),
+                                 edge_geometry=(np.concatenate([w_off, e_off[1:] + w_off[-1]]), np.vstack([w_pts, e_pts])))
+    # The streets of either city that reach the gap: those the cut ended on the side facing it.
+    facing = np.concatenate([west_ends[np.abs(west.positions[west_ends, 0] - 600.0) < 1e-6],
+                             west.vertex_count + east_ends[np.abs(east.positions[east_ends, 0] - 1400.0) < 1e-6]])
+    gap_west = np.array([[600.0, -600.0], [1000.0, -600.0], [1000.0, 600.0], [600.0, 600.0]])
+    gap_east = gap_west + [400.0, 0.0]
+    step1, r1 = ggg.grow_region(both, grid_rules, gap_west, seed=seed, border_m=150.0, continue_hierarchy=False)
+    step2, r2 = ggg.grow_region(step1, old_rules, gap_east, seed=seed, border_m=150.0, continue_hierarchy=False)
+    # The main roads of both cities continued across the whole gap (both growths).
+    gap = np.array([[600.0, -600.0], [1400.0, -600.0], [1400.0, 600.0], [600.0, 600.0]])
+    step3, hierarchy = ggg.continue_hierarchy(step2, both.edge_count, region=gap, border_m=150.0)
+    degree = np.bincount(np.asarray(step3.edges).ravel(), minlength=step3.vertex_count)
+    return {"west": west, "east": east, "both": both, "step1": step1, "step2": step2, "step3": step3,
+            "report_west": r1, "report_east": r2, "hierarchy": hierarchy, "facing": facing,
+            "reached": int(np.sum(degree[facing] >= 2)), "gap_west": gap_west, "gap_east": gap_east}
+
+
 def measure(city, seeds):
     graph = ggg.read_graph(str(OSM / city))
     p = graph.positions

@@ -181,6 +181,42 @@ TEST(StreetHierarchy, FacingMainRoadsWithoutARouteAreJoinedStraight) {
     EXPECT_EQ(none.intersections, 0u);
 }
 
+// A grown T-junction right on the line between two facing main roads: going through it would
+// give it five streets (Oakland's infill test, seed 1, had two such junctions). A grown
+// vertex of two streets on the line is gone through, making a crossing of four.
+TEST(StreetHierarchy, AConnectorMakesNoJunctionOfMoreThanFourStreets) {
+    auto build = [](bool t_junction) {
+        GeometricGraph g;
+        const VertexId w0 = g.add_vertex({-200, 200}), w = g.add_vertex({0, 200});
+        const VertexId e0 = g.add_vertex({800, 200}), e = g.add_vertex({600, 200});
+        g.add_edge(w0, w, of(HighwayClass::secondary));
+        g.add_edge(e0, e, of(HighwayClass::secondary));
+        const auto first = static_cast<EdgeId>(g.edge_count());
+        g.add_edge(w, g.add_vertex({0, 300}), of(HighwayClass::residential));
+        g.add_edge(e, g.add_vertex({600, 100}), of(HighwayClass::residential));
+        // A north-south street with a vertex on the line, and (or not) a third street there.
+        const VertexId on_line = g.add_vertex({300, 200});
+        g.add_edge(g.add_vertex({300, 0}), on_line, of(HighwayClass::residential));
+        g.add_edge(on_line, g.add_vertex({300, 400}), of(HighwayClass::residential));
+        if (t_junction) g.add_edge(on_line, g.add_vertex({380, 300}), of(HighwayClass::residential));
+        return std::pair{g, first};
+    };
+    auto most_streets = [](const GeometricGraph& g) {
+        std::vector<int> degree(g.vertex_count(), 0);
+        for (const auto& [a, b] : g.edges) ++degree[static_cast<std::size_t>(a)], ++degree[static_cast<std::size_t>(b)];
+        return *std::max_element(degree.begin(), degree.end());
+    };
+    auto [t, first_t] = build(true);
+    const HierarchyReport blocked = continue_hierarchy(t, first_t);
+    EXPECT_EQ(blocked.connectors, 0u);
+    EXPECT_LE(most_streets(t), 4);
+
+    auto [crossing, first_crossing] = build(false);
+    const HierarchyReport through = continue_hierarchy(crossing, first_crossing);
+    EXPECT_EQ(through.connectors, 1u);
+    EXPECT_EQ(most_streets(crossing), 4);
+}
+
 // The split behind junctions on grown streets (connectors here, T-junctions in growth).
 TEST(GeometricGraph, SplitEdgeKeepsTheFirstHalfAndAppendsTheSecond) {
     GeometricGraph g;

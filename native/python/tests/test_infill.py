@@ -8,6 +8,7 @@ Map data (c) OpenStreetMap contributors, ODbL.
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 SCRIPTS = Path(__file__).resolve().parents[3] / "scripts"
@@ -37,3 +38,17 @@ def test_a_hole_grown_back_meets_the_targets(city, seeds):
         assert row["crossings"] == 0, where
         assert row["shared_places"] == 0, where  # one vertex per place
         assert row["continued"] >= 0.85, where
+
+
+# Fig. 18 (docs/synthesis.md): Barcelona's Eixample and the Marais, 800 m apart, stitched by
+# growing the gap from each side. Streets of either city that reach the gap and end a few
+# metres from one traced on (where two streets met just beyond the cut) meet it there.
+def test_two_cities_stitched_continue_the_streets_that_reach_the_gap():
+    st = bench_infill.stitch(seed=1)
+    facing, reached, joined = st["facing"], st["reached"], st["step3"]
+    assert len(facing) >= 25
+    assert reached >= 0.85 * len(facing), "{} of {}".format(reached, len(facing))
+    new_edges = set(range(st["both"].edge_count, joined.edge_count))
+    assert bench_infill.crossings(joined, new_edges) == 0
+    degree = np.bincount(np.asarray(joined.edges).ravel(), minlength=joined.vertex_count)
+    assert degree[st["both"].vertex_count:].max() <= 4

@@ -123,6 +123,23 @@ std::optional<Connector> plan_connector(const GeometricGraph& g, const StreetInd
         return v == s || v == t ||
                std::any_of(c.through.begin(), c.through.end(), [&](const auto& x) { return x.second == v; });
     };
+    // No junction of more than four streets: the connector goes through a vertex only where the
+    // two pieces it brings there (less those along a street already there) leave it at most four.
+    if (!c.through.empty()) {
+        std::unordered_map<VertexId, int> degree, along;
+        for (const auto& [at, v] : c.through) degree[v] = 0, along[v] = 0;
+        for (const auto& [a, b] : g.edges) {
+            for (const auto& [x, y] : {std::pair{a, b}, std::pair{b, a}}) {
+                if (const auto it = degree.find(x); it != degree.end()) {
+                    ++it->second;
+                    if (on_chain(y)) ++along[x];
+                }
+            }
+        }
+        for (const auto& [v, streets] : degree) {
+            if (streets + 2 - std::min(2, along[v]) > 4) return std::nullopt;
+        }
+    }
     // The grown streets it crosses away from those vertices are split where it crosses.
     index.segments_near(p, q, [&](std::size_t e, std::size_t k) {
         if (blocked) return;

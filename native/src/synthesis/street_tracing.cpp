@@ -58,6 +58,7 @@ TracingReport Tracer::run() {
         if (steps % 256 == 0) report(progress_, std::min(0.99, static_cast<double>(report_.streets) / static_cast<double>(expected_streets_)), "tracing streets");
         trace(street);
     }
+    join_close_ends();
     return report_;
 }
 

@@ -94,6 +94,34 @@ void Tracer::seed() {
     }
 }
 
+void Tracer::join_close_ends() {
+    const double snap = 0.3 * typical_;
+    auto grown_street_at = [&](VertexId w) {
+        const auto& at = adjacency_[static_cast<std::size_t>(w)];
+        return std::any_of(at.begin(), at.end(), [&](EdgeId e) { return static_cast<std::size_t>(e) >= fixed_edges_; });
+    };
+    for (std::size_t v = 0; v < base_vertices_; ++v) {
+        const auto id = static_cast<VertexId>(v);
+        if (degree(id) != 1 || across_[v]) continue;
+        const Vec2 p = g_.positions[v];
+        if (!inside(region_, p) && distance_to_ring(region_, p) > s_.border_m) continue;
+        std::optional<VertexId> best;
+        double best_d = snap;
+        for (auto it = vertices_.qbegin(spatial::bgi::intersects(spatial::around(p, snap))); it != vertices_.qend(); ++it) {
+            const VertexId w = it->second;
+            const double d = (g_.positions[static_cast<std::size_t>(w)] - p).norm();
+            if (w == id || d >= best_d || degree(w) >= 4 || adjacent(id, w) || !grown_street_at(w)) continue;
+            best = w, best_d = d;
+        }
+        if (!best) continue;
+        const Vec2 q = g_.positions[static_cast<std::size_t>(*best)];
+        const std::vector<Vec2> line{p, q};
+        if (first_hit(line, id, *best) || clearance(*best, p - q) < min_angle_ || clearance(id, q - p) < min_angle_) continue;
+        add_street(id, *best, line, g_.edge_highway[static_cast<std::size_t>(adjacency_[v].front())]);
+        ++report_.joined;
+    }
+}
+
 Vec2 Tracer::nearest_on_ring(const Vec2& p) const {
     Vec2 best = region_.front();
     double best_d = std::numeric_limits<double>::infinity();

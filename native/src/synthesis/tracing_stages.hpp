@@ -212,6 +212,12 @@ private:
 
     // ---- the seeds (tracing_seeds.cpp) -----------------------------------------------------
 
+    // After tracing: a dead end of the base at the region that nothing was traced from, a
+    // snap from a vertex with grown streets (most often the cut end of another street a few
+    // metres along the cut, which was traced on), meets it there, as the two streets met a
+    // few metres on in the city that was cut.
+    void join_close_ends();
+
     // The base's streets that reach the region: a dead end or a junction with an open side
     // that points into the region, close enough to reach it with one street.
     void seed();
