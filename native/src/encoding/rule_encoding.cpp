@@ -206,9 +206,11 @@ double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector
                             const Adjacency& adj) const {
     const Pattern& pattern = group.pattern;
     const std::size_t k = pattern.positions.size();
-    // An instance at the top: its nonterminal's position, index and symbol, its frame
-    // (scale and rotation), correction, shift, tolerance and its count of links (rule points
-    // and class changes are stored only where an instance has them).
+    // An instance at the top: its nonterminal's position and symbol, its frame (scale and
+    // rotation), correction, shift, tolerance and its count of links (rule points and class
+    // changes are stored only where an instance has them). Version 4 stores the axiom's
+    // nonterminals in runs, without an index each; pricing them a byte less measured no
+    // smaller on the corpus (docs/learning.md#size), so the byte stays as slack.
     const double instance_bytes = vertex_bytes_ + 15.0;
     // A link (rule vertex and class in one number, aim) where the graph has an edge.
     const double link_bytes = 5.0;

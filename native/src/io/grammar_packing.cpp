@@ -169,8 +169,26 @@ private:
     }
 
     bool pack_axiom(json& out) {
-        json x = json::array(), y = json::array(), nonterminals = json::array(), symbol = json::array(), frames = json::array();
-        std::int64_t px = 0, py = 0, previous = 0;
+        json x = json::array(), y = json::array(), nonterminals = json::array(), symbol = json::array(), frames = json::array(),
+             symbol_order = json::array();
+        // The axiom's symbols, most used first: a nonterminal stores its symbol's rank, which
+        // for most is one byte.
+        std::vector<std::size_t> uses(g_.symbol_names.size() + 1, 0);
+        for (const AxiomVertex& v : g_.axiom_vertices) {
+            if (static_cast<std::size_t>(v.symbol) >= uses.size()) return false;
+            uses[static_cast<std::size_t>(v.symbol)] += v.symbol != 0;
+        }
+        std::vector<Symbol> by_use;
+        for (std::size_t s = 1; s < uses.size(); ++s) {
+            if (uses[s]) by_use.push_back(static_cast<Symbol>(s));
+        }
+        std::stable_sort(by_use.begin(), by_use.end(), [&](Symbol a, Symbol b) { return uses[static_cast<std::size_t>(a)] > uses[static_cast<std::size_t>(b)]; });
+        std::vector<std::int64_t> rank(uses.size(), 0);
+        for (std::size_t r = 0; r < by_use.size(); ++r) {
+            rank[static_cast<std::size_t>(by_use[r])] = static_cast<std::int64_t>(r);
+            symbol_order.push_back(by_use[r]);
+        }
+        std::int64_t px = 0, py = 0, run_start = -1, previous_end = 0;
         for (std::size_t i = 0; i < g_.axiom_vertices.size(); ++i) {
             const AxiomVertex& v = g_.axiom_vertices[i];
             const auto kx = steps(v.position.x(), quantum_), ky = steps(v.position.y(), quantum_);
@@ -179,17 +197,28 @@ private:
             y.push_back(*ky - py);
             px = *kx;
             py = *ky;
+            const auto at = static_cast<std::int64_t>(i);
+            // Nonterminals come in runs (the encoder appends them): each run is stored as
+            // (step from the end of the previous run, length).
+            if (v.symbol && run_start < 0) run_start = at;
+            if (!v.symbol && run_start >= 0) {
+                nonterminals.insert(nonterminals.end(), {run_start - previous_end, at - run_start});
+                previous_end = at;
+                run_start = -1;
+            }
             if (!v.symbol) {
                 if (v.frame != Frame{}) return false;
                 continue;
             }
-            nonterminals.push_back(static_cast<std::int64_t>(i) - previous);
-            previous = static_cast<std::int64_t>(i);
-            symbol.push_back(v.symbol);
+            symbol.push_back(rank[static_cast<std::size_t>(v.symbol)]);
             if (!put(frames, v.frame.scale, axiom_scale_unit, 0, 1) || !put(frames, v.frame.rotation_deg, frame_degree_unit)) return false;
         }
-        out = {{"x", std::move(x)}, {"y", std::move(y)}, {"nonterminals", std::move(nonterminals)}, {"symbol", std::move(symbol)},
-               {"frames", std::move(frames)}, {"edges", edge_steps(g_.axiom_edges)}};
+        if (run_start >= 0) {
+            const auto end = static_cast<std::int64_t>(g_.axiom_vertices.size());
+            nonterminals.insert(nonterminals.end(), {run_start - previous_end, end - run_start});
+        }
+        out = {{"x", std::move(x)}, {"y", std::move(y)}, {"nonterminals", std::move(nonterminals)}, {"symbol_order", std::move(symbol_order)},
+               {"symbol", std::move(symbol)}, {"frames", std::move(frames)}, {"edges", edge_steps(g_.axiom_edges)}};
         return true;
     }
 
@@ -539,21 +568,54 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     Cursor ax = column(axiom, "x", "axiom", JsonReader<GrammarError>::any_size);
     Cursor ay = column(axiom, "y", "axiom", ax.values.size());
     Cursor nonterminals = column(axiom, "nonterminals", "axiom", JsonReader<GrammarError>::any_size);
-    Cursor axiom_symbol = column(axiom, "symbol", "axiom", nonterminals.values.size());
-    Cursor frames = column(axiom, "frames", "axiom", 2 * nonterminals.values.size());
     std::int64_t px = 0, py = 0;
     for (std::size_t i = 0; i < ax.values.size(); ++i) {
         px += ax.take();
         py += ay.take();
         g.axiom_vertices.push_back({{from_steps(px, quantum), from_steps(py, quantum)}, 0, Frame{}});
     }
-    std::int64_t at = 0;
-    const auto vertex_max = static_cast<std::int64_t>(g.axiom_vertices.size()) - 1;
-    for (std::size_t k = 0; k < nonterminals.values.size(); ++k) {
-        at += nonterminals.take(k ? 1 : 0, vertex_max);
-        if (at > vertex_max) r.fail("axiom.nonterminals", "points past the last axiom vertex");
-        AxiomVertex& v = g.axiom_vertices[static_cast<std::size_t>(at)];
-        v.symbol = static_cast<Symbol>(axiom_symbol.take(1, symbol_max));
+    // Which axiom vertices are nonterminals: version 4 stores runs of them, (step from the end of
+    // the previous run, length); before, the step from the previous nonterminal, one by one.
+    const std::int64_t version = doc.at("version").get<std::int64_t>();
+    const auto axiom_size = static_cast<std::int64_t>(g.axiom_vertices.size());
+    const std::int64_t vertex_max = axiom_size - 1;
+    std::vector<std::size_t> nonterminal_at;
+    if (version >= 4) {
+        if (nonterminals.values.size() % 2) r.fail("axiom.nonterminals", "must hold (step, length) pairs");
+        std::int64_t end = 0;
+        while (nonterminals.next < nonterminals.values.size()) {
+            const std::int64_t start = end + nonterminals.take(0, axiom_size);
+            const std::int64_t length = nonterminals.take(1, axiom_size);
+            if (start + length > axiom_size) r.fail("axiom.nonterminals", "points past the last axiom vertex");
+            for (std::int64_t i = start; i < start + length; ++i) nonterminal_at.push_back(static_cast<std::size_t>(i));
+            end = start + length;
+        }
+    } else {
+        std::int64_t at = 0;
+        for (std::size_t k = 0; k < nonterminals.values.size(); ++k) {
+            at += nonterminals.take(k ? 1 : 0, vertex_max);
+            if (at > vertex_max) r.fail("axiom.nonterminals", "points past the last axiom vertex");
+            nonterminal_at.push_back(static_cast<std::size_t>(at));
+        }
+    }
+    // Version 4 stores a nonterminal's symbol as its rank in symbol_order.
+    std::vector<std::int64_t> symbol_order;
+    if (version >= 4) {
+        Cursor order = column(axiom, "symbol_order", "axiom", JsonReader<GrammarError>::any_size);
+        while (order.next < order.values.size()) symbol_order.push_back(order.take(1, symbol_max));
+    } else if (axiom.contains("symbol_order")) {
+        r.fail("axiom.symbol_order", "is not part of version " + std::to_string(version));
+    }
+    Cursor axiom_symbol = column(axiom, "symbol", "axiom", nonterminal_at.size());
+    Cursor frames = column(axiom, "frames", "axiom", 2 * nonterminal_at.size());
+    for (const std::size_t at : nonterminal_at) {
+        AxiomVertex& v = g.axiom_vertices[at];
+        if (version >= 4) {
+            if (symbol_order.empty()) r.fail("axiom.symbol_order", "is empty, but the axiom has nonterminals");
+            v.symbol = static_cast<Symbol>(symbol_order[static_cast<std::size_t>(axiom_symbol.take(0, static_cast<std::int64_t>(symbol_order.size()) - 1))]);
+        } else {
+            v.symbol = static_cast<Symbol>(axiom_symbol.take(1, symbol_max));
+        }
         v.frame.scale = from_steps(frames.take(1), axiom_scale_unit);
         v.frame.rotation_deg = from_steps(frames.take(), frame_degree_unit);
     }
@@ -583,7 +645,7 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     Cursor classes = column(enc_doc, "edge_classes", "encoding", JsonReader<GrammarError>::any_size);
     // Version 3 stores rule points and class changes only for the instances that have them,
     // and a link's rule vertex and class (by rank in link_classes) as one number.
-    const bool sparse = doc.at("version").get<std::int64_t>() >= 3;
+    const bool sparse = version >= 3;
     Cursor link_classes = column(enc_doc, "link_classes", "encoding", JsonReader<GrammarError>::any_size);
     if (!sparse && !link_classes.values.empty()) r.fail("encoding.link_classes", "is not part of version 2");
     std::vector<HighwayClass> link_class;

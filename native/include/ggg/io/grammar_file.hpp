@@ -14,7 +14,7 @@ namespace ggg {
 // columns of decimals). Version 2: the packed form of a learned grammar (integers in fixed
 // units, docs/grammar-format.md), written as JSON text or, for a path ending in ".cbor", as
 // CBOR. The reader takes both versions in either encoding.
-inline constexpr int grammar_file_version = 3;
+inline constexpr int grammar_file_version = 4;
 
 nlohmann::json grammar_to_json(const Grammar& grammar);
 // Throws GrammarError naming the place of the problem ("rules[0].vertices[2].symbol: unknown symbol 'Q'").
