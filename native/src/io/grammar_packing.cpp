@@ -449,7 +449,7 @@ struct Cursor {
     }
 };
 
-// A column of version 3 stored only for the instances that have entries: groups of (step from
+// A column of versions 3 and 4 stored only for the instances that have entries: groups of (step from
 // the previous such instance, count ≥ 1, entries). In version 2 every instance has its count.
 struct Groups {
     Cursor& c;

@@ -1,6 +1,7 @@
 #pragma once
-// The packed form of a learned grammar (grammar file version 3, docs/grammar-format.md; the
-// reader takes version 2 too, whose rule points, class changes and links are stored densely):
+// The packed form of a learned grammar (grammar file version 4, docs/grammar-format.md; the
+// reader takes versions 2 and 3 too: version 3 stores the axiom's nonterminals one by one with
+// their symbols, version 2 also the rule points, class changes and links densely):
 // every number an integer in a fixed unit, columns instead of objects, and nothing stored
 // that the derivation already knows (an instance's symbol, which instance rewrites which
 // nonterminal). The same document is written as JSON text or as CBOR, so that a grammar's

@@ -11,9 +11,9 @@
 namespace ggg {
 
 // Version 1: the readable form (rules and axiom as objects; a learned grammar's instances as
-// columns of decimals). Version 2: the packed form of a learned grammar (integers in fixed
+// columns of decimals). Version 4: the packed form of a learned grammar (integers in fixed
 // units, docs/grammar-format.md), written as JSON text or, for a path ending in ".cbor", as
-// CBOR. The reader takes both versions in either encoding.
+// CBOR. The reader takes every version in either encoding, the older packed forms 2 and 3 too.
 inline constexpr int grammar_file_version = 4;
 
 nlohmann::json grammar_to_json(const Grammar& grammar);
