@@ -64,6 +64,24 @@ std::optional<std::int64_t> steps(double x, double inverse) {
     return k;
 }
 
+// The codes used (uses[c] > 0), most used first (ties by code), and each code's rank in that
+// order: a column that stores ranks instead of codes takes one CBOR byte for the common ones.
+struct ByUse {
+    std::vector<std::int64_t> order;
+    std::vector<std::int64_t> rank; // per code (0 for an unused one)
+};
+
+ByUse by_use(const std::vector<std::size_t>& uses) {
+    ByUse out;
+    for (std::size_t c = 0; c < uses.size(); ++c) {
+        if (uses[c]) out.order.push_back(static_cast<std::int64_t>(c));
+    }
+    std::stable_sort(out.order.begin(), out.order.end(), [&](std::int64_t a, std::int64_t b) { return uses[static_cast<std::size_t>(a)] > uses[static_cast<std::size_t>(b)]; });
+    out.rank.assign(uses.size(), 0);
+    for (std::size_t r = 0; r < out.order.size(); ++r) out.rank[static_cast<std::size_t>(out.order[r])] = static_cast<std::int64_t>(r);
+    return out;
+}
+
 // 0 = none; m × 10^e is 9e + m for e >= 0 (1 to 9 m: 1 to 9) and 9e + m - 9 below (all
 // negative), so that the usual tolerances take one byte of CBOR.
 std::optional<std::int64_t> tolerance_code(double t) {
@@ -178,16 +196,8 @@ private:
             if (static_cast<std::size_t>(v.symbol) >= uses.size()) return false;
             uses[static_cast<std::size_t>(v.symbol)] += v.symbol != 0;
         }
-        std::vector<Symbol> by_use;
-        for (std::size_t s = 1; s < uses.size(); ++s) {
-            if (uses[s]) by_use.push_back(static_cast<Symbol>(s));
-        }
-        std::stable_sort(by_use.begin(), by_use.end(), [&](Symbol a, Symbol b) { return uses[static_cast<std::size_t>(a)] > uses[static_cast<std::size_t>(b)]; });
-        std::vector<std::int64_t> rank(uses.size(), 0);
-        for (std::size_t r = 0; r < by_use.size(); ++r) {
-            rank[static_cast<std::size_t>(by_use[r])] = static_cast<std::int64_t>(r);
-            symbol_order.push_back(by_use[r]);
-        }
+        const ByUse symbols = by_use(uses);
+        symbol_order = symbols.order;
         std::int64_t px = 0, py = 0, run_start = -1, previous_end = 0;
         for (std::size_t i = 0; i < g_.axiom_vertices.size(); ++i) {
             const AxiomVertex& v = g_.axiom_vertices[i];
@@ -210,7 +220,7 @@ private:
                 if (v.frame != Frame{}) return false;
                 continue;
             }
-            symbol.push_back(rank[static_cast<std::size_t>(v.symbol)]);
+            symbol.push_back(symbols.rank[static_cast<std::size_t>(v.symbol)]);
             if (!put(frames, v.frame.scale, axiom_scale_unit, 0, 1) || !put(frames, v.frame.rotation_deg, frame_degree_unit)) return false;
         }
         if (run_start >= 0) {
@@ -282,23 +292,16 @@ private:
         for (const AxiomVertex& v : g_.axiom_vertices) axiom_nonterminals += v.symbol != 0;
         // The links' classes, most common first: a link stores its rule vertex and its class's
         // rank in one number, which for most links is one byte.
-        std::array<std::size_t, highway_class_count> class_uses{};
+        std::vector<std::size_t> class_uses(highway_class_count, 0);
         for (const RuleInstance& inst : enc.instances) {
             for (const RuleInstance::Link& l : inst.embedding) {
                 if (static_cast<std::size_t>(l.point.highway) >= highway_class_count) return false;
                 ++class_uses[static_cast<std::size_t>(l.point.highway)];
             }
         }
-        std::vector<int> by_use;
-        for (std::size_t c = 0; c < highway_class_count; ++c) {
-            if (class_uses[c]) by_use.push_back(static_cast<int>(c));
-        }
-        std::stable_sort(by_use.begin(), by_use.end(), [&](int a, int b) { return class_uses[static_cast<std::size_t>(a)] > class_uses[static_cast<std::size_t>(b)]; });
-        std::array<std::int64_t, highway_class_count> rank{};
-        for (std::size_t r = 0; r < by_use.size(); ++r) {
-            rank[static_cast<std::size_t>(by_use[r])] = static_cast<std::int64_t>(r);
-            link_classes.push_back(by_use[r]);
-        }
+        const ByUse classes_by_use = by_use(class_uses);
+        link_classes = classes_by_use.order;
+        const std::vector<std::int64_t>& rank = classes_by_use.rank;
         // Rule points and class changes are rare: stored only for the instances that have
         // them, each as (step from the previous such instance, count, entries).
         std::size_t last_points = 0, last_classes = 0;
@@ -351,7 +354,7 @@ private:
     // An instance's own points are rounded to a power of ten that depends on its tolerance
     // and its frame: the coarsest power that holds them all exactly is stored first.
     static bool pack_links(const std::vector<RuleInstance::Link>& links, std::size_t rule_vertices,
-                           const std::array<std::int64_t, highway_class_count>& rank, json& out) {
+                           const std::vector<std::int64_t>& rank, json& out) {
         for (int exponent = -6; exponent <= 12; ++exponent) {
             const double inverse = std::pow(10.0, exponent);
             json packed = json::array();

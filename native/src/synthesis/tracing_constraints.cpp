@@ -85,7 +85,8 @@ Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
     // A junction near its end: it ends there.
     if (const auto w = nearest_vertex(end, join, s.from)) return end_at(s, line, *w) ? Settled::joined : Settled::dropped;
     // A street near its end: it meets it.
-    if (const auto near = nearest_street(end, snap, s.from)) {
+    const auto near = nearest_street(end, snap, s.from);
+    if (near) {
         const EdgeId e = near->edge;
         std::vector<Vec2> to_x = warped(line, near->where);
         squared(s, to_x, e, near->piece);
@@ -98,16 +99,13 @@ Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
             ++report_.t_junctions;
             return Settled::joined;
         }
-        // No room beside the junction there: it ends at it, as it would without short streets.
-        if (join < snap) {
-            if (const auto w = nearest_vertex(end, snap, s.from)) return end_at(s, line, *w) ? Settled::joined : Settled::dropped;
-        }
-        return Settled::dropped;
     }
+    // No room to meet a street beside a junction near its end: it ends at the junction, as it
+    // would without short streets.
     if (join < snap) {
         if (const auto w = nearest_vertex(end, snap, s.from)) return end_at(s, line, *w) ? Settled::joined : Settled::dropped;
     }
-    return Settled::open;
+    return near ? Settled::dropped : Settled::open;
 }
 
 } // namespace ggg::growth_detail::tracing
