@@ -226,7 +226,8 @@ def test_grow_matches_the_cli(steps, tmp_path, ggg, op_results):
     assert bpy.ops.roads.add_axiom() == {'FINISHED'}
     obj = bpy.context.active_object
     assert bpy.ops.roads.grow(steps=steps) == {'FINISHED'}
-    assert len(obj.data.vertices) == expected["vertices"] == 3 ** (steps + 1)
+    # 3^(n+1) triangle corners, two to each place the triangles share: one vertex per place.
+    assert len(obj.data.vertices) == expected["vertices"] == (3 ** (steps + 1) + 3) // 2
     assert len(obj.data.edges) == expected["edges"] == 3 ** (steps + 1)
     # The surface is rebuilt: one segment per (straight) edge.
     surface_obj = roads.surface_object(obj)
@@ -282,7 +283,7 @@ def test_place_rule_at_the_cursor_then_grow(ggg):
                                   vertex_frames=np.array([[ab[0, 0], ab[0, 1], 120.0, -40.0]]))
     derived, report = ggg.derive(grammar_, start, steps=2)
     positions, edges, symbols, _ = graph_arrays(obj)
-    assert len(positions) == report["vertices"] == 9 and len(edges) == report["edges"] == 9
+    assert len(positions) == report["vertices"] == 6 and len(edges) == report["edges"] == 9
     np.testing.assert_allclose(positions, derived.positions, atol=1e-3)
     np.testing.assert_array_equal(edges, derived.edges)
     # The first placed triangle side runs along the cursor's 30 degrees.
@@ -341,9 +342,9 @@ def test_grow_budget(ggg, reports):
     assert bpy.ops.roads.add_axiom() == {'FINISHED'}
     obj = bpy.context.active_object
     assert bpy.ops.roads.grow(steps=10, max_vertices=100) == {'FINISHED'}
-    assert len(obj.data.vertices) == 81
+    assert len(obj.data.vertices) == 42
     kind, message = reports()[-1]
-    assert kind == 'WARNING' and "3 steps of 10" in message and "81 vertices" in message
+    assert kind == 'WARNING' and "3 steps of 10" in message and "42 vertices" in message
     assert "stopped by budget" in message
     # A budget the first step already passes: nothing changes.
     before = mesh_state(obj)
@@ -452,7 +453,7 @@ def test_grow_in_edit_mode(ggg):
     assert bpy.ops.roads.grow(steps=1) == {'FINISHED'}
     assert obj.mode == 'EDIT'
     bpy.ops.object.mode_set(mode='OBJECT')
-    assert len(obj.data.vertices) == 9 and len(obj.data.edges) == 9
+    assert len(obj.data.vertices) == 6 and len(obj.data.edges) == 9
 
 
 def test_moved_nonterminal_takes_its_frame_along(ggg):
@@ -482,7 +483,28 @@ def test_import_derived_graph_file_keeps_nonterminals(tmp_path, ggg):
     assert frames.find_modifier(obj) is not None and not obj.hide_render
     assert load() == {'FINISHED'}
     assert bpy.ops.roads.grow(steps=1) == {'FINISHED'}
-    assert len(obj.data.vertices) == 27
+    # The corners the file's triangles share carried both rewrites into the mesh.
+    assert (len(obj.data.vertices), len(obj.data.edges)) == (15, 27)
+
+
+def test_grow_step_by_step_is_grow_at_once(ggg):
+    """A corner two triangles share is one vertex that holds both triangles' rewrites (the
+    point attributes symbol_2, frame_a_2, frame_b_2), so growing one step at a time gives what
+    three steps at once give."""
+    assert load() == {'FINISHED'}
+    assert bpy.ops.roads.add_axiom() == {'FINISHED'}
+    obj = bpy.context.active_object
+    for _ in range(3):
+        assert bpy.ops.roads.grow(steps=1) == {'FINISHED'}
+    from road_grammar.data.graph_edit import MeshGraph
+
+    # The slot is the graph's own column, not an attribute only Blender holds.
+    assert "symbol_2" in obj.data.attributes and "symbol_2" not in MeshGraph(obj).point_attributes
+    positions, edges, _, _ = graph_arrays(obj)
+    direct, _ = ggg.derive(ggg.read_grammar(str(SIERPINSKI)), steps=3)
+    assert len(positions) == direct.vertex_count == 42 and len(edges) == 81
+    np.testing.assert_allclose(positions, direct.positions, atol=1e-3)
+    np.testing.assert_array_equal(edges, direct.edges)
 
 
 def test_kept_edges_follow_source_vertices():
@@ -673,8 +695,8 @@ def test_grow_in_edit_mode_keeps_the_selection(tmp_path, ggg):
     assert bpy.ops.roads.grow(steps=2) == {'FINISHED'}
     assert obj.mode == 'EDIT'
     bpy.ops.object.mode_set(mode='OBJECT')
-    assert len(obj.data.vertices) == 3 + 9
-    assert [v.select for v in obj.data.vertices] == [True] + [False] * 11
+    assert len(obj.data.vertices) == 3 + 6
+    assert [v.select for v in obj.data.vertices] == [True] + [False] * 8
     assert not any(e.select for e in obj.data.edges)
     assert sorted(edge_names(obj))[-1] == "Rue \u00c9t\u00e9"
 

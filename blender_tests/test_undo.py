@@ -61,7 +61,7 @@ def test_undo_of_grow_restores_the_mesh(ggg, tmp_path):
     assert result["grow"] == ['FINISHED']
     before, grown = result["before"], result["imported"]
     assert before["meshes held"]["sierpinski"][:2] == [3, 3]
-    assert grown["meshes held"]["sierpinski"][:2] == [27, 27]
+    assert grown["meshes held"]["sierpinski"][:2] == [15, 27]
     assert grown["meshes held"]["sierpinski Surface"][:2] == [54, 27]
     assert result["undo"] == ['FINISHED']
     assert result["undone"] == before

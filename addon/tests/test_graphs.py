@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from road_grammar.core.columns import GraphColumns, joined
+from road_grammar.core.columns import GraphColumns, joined, more_rewrite_slots, more_rewrites_from_slots
 from road_grammar.core.growth import fitted, grow_into_region, placed_rules
 from road_grammar.core.jobs import StepsJob
 from road_grammar.core.topology import replaced_vertices
@@ -85,6 +85,44 @@ def test_joined(ggg):
     assert both.edge_attributes["mark"][1].tolist() == [0, 1, 2, 3, 0, 0, 0, 0]
     assert both.geometry[0].tolist() == [0, 2, 4, 6, 8, 10, 12, 14, 16]
     assert both.graph(ggg).vertex_count == 8
+
+
+SIERPINSKI = REPO / "samples" / "sierpinski.grammar.json"
+
+
+def test_more_rewrites_through_slots_and_back(ggg):
+    """The rewrites a shared corner carries besides its own go into per-vertex slots (the
+    mesh's symbol_k, frame_a_k, frame_b_k) and come back as the same Graph.more_rewrites."""
+    two, _ = ggg.derive(ggg.read_grammar(str(SIERPINSKI)), steps=2)
+    vertices, symbols, frames = two.more_rewrites
+    slots = more_rewrite_slots(two.vertex_count, two.more_rewrites)
+    assert len(slots) == 1 and np.count_nonzero(slots[0][0]) == len(vertices) == 12
+    back = more_rewrites_from_slots(slots, np.asarray(two.positions), np.asarray(two.vertex_symbols))
+    np.testing.assert_array_equal(back[0], vertices)
+    np.testing.assert_array_equal(back[1], symbols)
+    np.testing.assert_allclose(back[2], frames, atol=1e-6)
+    # A slot on a vertex that is not a nonterminal (a symbol cleared by hand) is dropped.
+    cleared = np.asarray(two.vertex_symbols).copy()
+    cleared[vertices[0]] = 0
+    assert len(more_rewrites_from_slots(slots, np.asarray(two.positions), cleared)[0]) == 11
+    assert more_rewrites_from_slots([], np.zeros((0, 2)), np.zeros(0)) is None
+
+
+def test_joined_carries_more_rewrites(ggg):
+    """Stitch Cities: the second graph's shared corners keep their rewrites, turned with it."""
+    two, _ = ggg.derive(ggg.read_grammar(str(SIERPINSKI)), steps=1)
+    part = columns(two.positions, two.edges, symbols=two.vertex_symbols, frames=np.asarray(two.vertex_frames)[:, :2])
+    part.more_rewrites = two.more_rewrites
+    move = np.eye(4)
+    move[:2, :2] = [[0, -1], [1, 0]]
+    move[:2, 3] = [5000, 0]
+    both = joined(ggg, columns(SQUARE, RING), part, move)
+    vertices, _, frames = both.more_rewrites
+    assert (vertices == np.asarray(two.more_rewrites[0]) + 4).all()
+    np.testing.assert_allclose(frames[:, :2], np.asarray(two.more_rewrites[2])[:, :2] @ np.array([[0, -1], [1, 0]]).T)
+    np.testing.assert_allclose(frames[:, 2:], both.positions[vertices])
+    graph = both.graph(ggg)
+    assert len(graph.more_rewrites[0]) == 3
 
 
 class Parsed:

@@ -44,6 +44,7 @@ void append_graph(ggg::GeometricGraph& base, const ggg::GeometricGraph& extra) {
         base.add_vertex(extra.positions[v], extra.vertex_osm_ids[v]);
         base.symbols.back() = extra.symbols[v];
         base.frames.back() = extra.frames[v];
+        ggg::copy_more_rewrites(extra, static_cast<ggg::VertexId>(v), base, static_cast<ggg::VertexId>(offset + static_cast<ggg::VertexId>(v)));
     }
     for (std::size_t e = 0; e < extra.edge_count(); ++e) {
         const auto id = static_cast<ggg::EdgeId>(e);

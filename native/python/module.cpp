@@ -59,9 +59,36 @@ struct EdgeColumns {
     std::optional<std::pair<IntArray, DoubleArray>> geometry; // (offsets (M+1,), points (P,2))
 };
 
+// Graph.more_rewrites: (vertices (K,), symbols (K,), frames (K,4)).
+using MoreRewrites = std::tuple<IntArray, IntArray, DoubleArray>;
+
+void set_more_rewrites(ggg::GeometricGraph& g, const MoreRewrites& more) {
+    const auto& [at, symbols, frames] = more;
+    if (at.ndim() != 1 || symbols.ndim() != 1 || symbols.shape(0) != at.shape(0) || frames.ndim() != 2 ||
+        frames.shape(0) != at.shape(0) || frames.shape(1) != 4) {
+        throw ggg::UsageError("more_rewrites must be (vertices (K,), symbols (K,), frames (K, 4))");
+    }
+    const auto f = frames.unchecked<2>();
+    for (py::ssize_t i = 0; i < at.shape(0); ++i) {
+        const std::string where = "more_rewrites[" + std::to_string(i) + "]";
+        const auto v = at.at(i), s = symbols.at(i);
+        if (v < 0 || v >= static_cast<py::ssize_t>(g.vertex_count())) throw ggg::InputError(where + " refers to a vertex out of range");
+        if (g.symbols[static_cast<std::size_t>(v)] == 0) throw ggg::InputError(where + ": vertex " + std::to_string(v) + " is not a nonterminal");
+        if (s < 1 || s > std::numeric_limits<ggg::Symbol>::max()) throw ggg::InputError(where + " has no nonterminal symbol");
+        ggg::Similarity2 frame{f(i, 0), f(i, 1), {f(i, 2), f(i, 3)}};
+        if (!std::isfinite(frame.a) || !std::isfinite(frame.b) || !frame.t.allFinite() || frame.scale() <= 0) {
+            throw ggg::InputError(where + " has no valid frame");
+        }
+        g.more_rewrites.push_back({static_cast<ggg::VertexId>(v), static_cast<ggg::Symbol>(s), frame});
+    }
+    std::stable_sort(g.more_rewrites.begin(), g.more_rewrites.end(),
+                     [](const ggg::PendingRewrite& a, const ggg::PendingRewrite& b) { return a.vertex < b.vertex; });
+}
+
 ggg::GeometricGraph graph_from_arrays(const DoubleArray& positions, const IntArray& edges, std::pair<double, double> origin_latlon,
                                       std::optional<IntArray> symbols, std::optional<DoubleArray> frames,
-                                      std::optional<IntArray> osm_ids, const EdgeColumns& columns) {
+                                      std::optional<IntArray> osm_ids, const EdgeColumns& columns,
+                                      const std::optional<MoreRewrites>& more_rewrites = std::nullopt) {
     const auto& highway = columns.highway;
     if (positions.ndim() != 2 || positions.shape(1) != 2) throw ggg::UsageError("positions must have shape (N, 2)");
     if (edges.ndim() != 2 || edges.shape(1) != 2) throw ggg::UsageError("edges must have shape (M, 2)");
@@ -162,6 +189,7 @@ ggg::GeometricGraph graph_from_arrays(const DoubleArray& positions, const IntArr
         }
         g.add_edge(static_cast<ggg::VertexId>(u), static_cast<ggg::VertexId>(v), a, line);
     }
+    if (more_rewrites) set_more_rewrites(g, *more_rewrites);
     return g;
 }
 
@@ -273,20 +301,22 @@ PYBIND11_MODULE(ggg, m) {
                        std::optional<IntArray> symbols, std::optional<DoubleArray> frames, std::optional<IntArray> osm_ids,
                        std::optional<IntArray> highway, std::optional<DoubleArray> width, std::optional<IntArray> lanes,
                        std::optional<IntArray> oneway, std::optional<IntArray> way_ids, std::optional<std::vector<std::string>> names,
-                       std::optional<std::pair<IntArray, DoubleArray>> geometry) {
+                       std::optional<std::pair<IntArray, DoubleArray>> geometry, std::optional<MoreRewrites> more_rewrites) {
                         return graph_from_arrays(positions, edges, origin_latlon, std::move(symbols), std::move(frames), std::move(osm_ids),
                                                  EdgeColumns{std::move(highway), std::move(lanes), std::move(oneway), std::move(way_ids),
-                                                             std::move(width), std::move(names), std::move(geometry)});
+                                                             std::move(width), std::move(names), std::move(geometry)},
+                                                 more_rewrites);
                     },
                     py::arg("positions"), py::arg("edges"), py::arg("origin_latlon") = std::pair<double, double>{0.0, 0.0},
                     py::arg("vertex_symbols") = py::none(), py::arg("vertex_frames") = py::none(), py::arg("vertex_osm_ids") = py::none(),
                     py::arg("edge_highway") = py::none(), py::arg("edge_width") = py::none(), py::arg("edge_lanes") = py::none(),
                     py::arg("edge_oneway") = py::none(), py::arg("edge_way_ids") = py::none(), py::arg("edge_names") = py::none(),
-                    py::arg("edge_geometry") = py::none(),
+                    py::arg("edge_geometry") = py::none(), py::arg("more_rewrites") = py::none(),
                     "A graph from (N,2) positions in metres and (M,2) vertex index pairs. Optional columns as the Graph\n"
                     "properties of the same names: vertex_symbols (N,), vertex_frames (N,4), vertex_osm_ids (N,),\n"
                     "edge_highway (M,) (else 'road'), edge_width (M,) (NaN = untagged), edge_lanes, edge_oneway,\n"
-                    "edge_way_ids (M,), edge_names (M strings), edge_geometry (offsets (M+1,), points (P,2)).")
+                    "edge_way_ids (M,), edge_names (M strings), edge_geometry (offsets (M+1,), points (P,2)),\n"
+                    "more_rewrites (vertices (K,), symbols (K,), frames (K,4)).")
         .def_property_readonly("vertex_symbols", [](const ggg::GeometricGraph& g) { return column(g.symbols); })
         .def_property_readonly("vertex_frames", [](const ggg::GeometricGraph& g) {
             py::array_t<double> out({static_cast<py::ssize_t>(g.vertex_count()), py::ssize_t{4}});
@@ -300,6 +330,26 @@ PYBIND11_MODULE(ggg, m) {
             }
             return out;
         }, "(N,4) frames a, b, tx, ty: x -> [[a,-b],[b,a]] x + t, with scale hypot(a,b) and angle atan2(b,a)")
+        .def_property_readonly("more_rewrites", [](const ggg::GeometricGraph& g) {
+            const auto k = static_cast<py::ssize_t>(g.more_rewrites.size());
+            py::array_t<std::int32_t> at(k);
+            py::array_t<std::int64_t> symbols(k);
+            py::array_t<double> frames({k, py::ssize_t{4}});
+            auto a = at.mutable_unchecked<1>();
+            auto s = symbols.mutable_unchecked<1>();
+            auto f = frames.mutable_unchecked<2>();
+            for (py::ssize_t i = 0; i < k; ++i) {
+                const ggg::PendingRewrite& r = g.more_rewrites[static_cast<std::size_t>(i)];
+                a(i) = r.vertex;
+                s(i) = r.symbol;
+                f(i, 0) = r.frame.a;
+                f(i, 1) = r.frame.b;
+                f(i, 2) = r.frame.t.x();
+                f(i, 3) = r.frame.t.y();
+            }
+            return py::make_tuple(at, symbols, frames);
+        }, "Rewrites pending at a vertex besides its own symbol and frame, where rules placed nonterminals with\n"
+           "different frames at one place: (vertices (K,), symbols (K,), frames (K,4)), in vertex order")
         .def_property_readonly("vertex_count", &ggg::GeometricGraph::vertex_count)
         .def_property_readonly("edge_count", &ggg::GeometricGraph::edge_count)
         .def_property_readonly("positions", [](const ggg::GeometricGraph& g) { return points(g.positions); })

@@ -11,6 +11,7 @@
 #include "fixtures.hpp"
 #include "ggg/error.hpp"
 #include "ggg/io/grammar_file.hpp"
+#include "ggg/io/graph_file.hpp"
 #include "ggg/grammar/rewriting.hpp"
 
 using namespace ggg;
@@ -81,14 +82,18 @@ TEST(Sierpinski, CountsFollowTheClosedForm) {
         const DeriveReport report = derive(graph, g, options);
         EXPECT_EQ(report.steps, n);
         EXPECT_FALSE(report.stopped_by_budget);
-        // Every P stands for one corner of one triangle: V = E = 3^(n+1); two corners of
-        // neighbouring triangles share a place, so there are (3^(n+1) + 3) / 2 places.
+        // Every P stands for one corner of one triangle: 3^(n+1) corners and edges. Two corners
+        // of neighbouring triangles share a place, and each place is one vertex that carries
+        // both rewrites: (3^(n+1) + 3) / 2 vertices, one graph.
         const auto three = static_cast<std::size_t>(std::pow(3, n + 1));
-        EXPECT_EQ(graph.vertex_count(), three) << "n = " << n;
+        EXPECT_EQ(graph.vertex_count(), (three + 3) / 2) << "n = " << n;
+        EXPECT_EQ(graph.vertex_count() + graph.more_rewrites.size(), three) << "n = " << n;
         EXPECT_EQ(graph.edge_count(), three) << "n = " << n;
+        EXPECT_EQ(check_simple(graph), "");
         std::set<Key> places;
         for (const Vec2& p : graph.positions) places.insert(key(p));
-        EXPECT_EQ(places.size(), (three + 3) / 2) << "n = " << n;
+        EXPECT_EQ(places.size(), graph.vertex_count()) << "n = " << n;
+        EXPECT_EQ(ggg::test::component_count(graph), 1u) << "n = " << n;
     }
 }
 
@@ -108,6 +113,10 @@ TEST(Sierpinski, GeometryIsTheSierpinskiTriangle) {
         EXPECT_EQ(edges, reference_edges) << "n = " << n;
         // Frames: each P points along its triangle's edge to the next corner, half the size per step.
         for (std::size_t v = 0; v < graph.vertex_count(); ++v) EXPECT_NEAR(graph.frames[v].scale(), 1000.0 / std::pow(2, n), 1e-9);
+        for (const PendingRewrite& r : graph.more_rewrites) {
+            EXPECT_NEAR(r.frame.scale(), 1000.0 / std::pow(2, n), 1e-9);
+            EXPECT_LT((r.frame.t - graph.positions[static_cast<std::size_t>(r.vertex)]).norm(), 1e-6);
+        }
     }
 }
 
@@ -305,7 +314,43 @@ TEST(Derivation, SourceVerticesTellWhereEachVertexCameFrom) {
         EXPECT_EQ(host.positions[v], before.positions[static_cast<std::size_t>(s)]);
     }
     EXPECT_EQ(kept, 3u); // the street; the nonterminal was rewritten away
-    EXPECT_EQ(host.vertex_count(), 3u + 9u); // one P becomes 3, then 9
+    EXPECT_EQ(host.vertex_count(), 3u + 6u); // one P becomes 3 corners, then 9 corners at 6 places
+}
+
+TEST(Derivation, ASharedCornerStaysOneVertexThroughAGraphFile) {
+    // Two steps, written to a graph file and read back, then one more step: the same graph as
+    // three steps at once. The corners two triangles share carry both rewrites in the file.
+    const Grammar g = sierpinski();
+    GeometricGraph direct = g.axiom_graph(), resumed = g.axiom_graph();
+    DeriveOptions options;
+    options.max_steps = 3;
+    derive(direct, g, options);
+    options.max_steps = 2;
+    derive(resumed, g, options);
+    ASSERT_FALSE(resumed.more_rewrites.empty());
+    const nlohmann::json file = graph_to_json(resumed);
+    EXPECT_EQ(file["version"], 2);
+    EXPECT_EQ(graph_to_json(g.axiom_graph())["version"], 1); // nothing shared: readable by older programs
+    resumed = graph_from_json(file, "two-steps.ggraph");
+    options.max_steps = 1;
+    derive(resumed, g, options);
+    EXPECT_EQ(resumed.positions, direct.positions);
+    EXPECT_EQ(resumed.edges, direct.edges);
+    EXPECT_EQ(resumed.more_rewrites.size(), direct.more_rewrites.size());
+
+    // A pending rewrite at a terminal vertex, or out of vertex order, is refused with its place.
+    nlohmann::json bad = file;
+    bad["vertices"]["more_rewrites"]["vertex"][0] = 100000;
+    EXPECT_THROW(graph_from_json(bad, "bad.ggraph"), InputError);
+    bad = file;
+    auto& order = bad["vertices"]["more_rewrites"]["vertex"];
+    std::swap(order[0], order[order.size() - 1]);
+    try {
+        graph_from_json(bad, "bad.ggraph");
+        ADD_FAILURE() << "out of order pending rewrites were read";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("vertices.more_rewrites.vertex["), std::string::npos) << e.what();
+    }
 }
 
 TEST(Derivation, SameInputSameOutput) {
@@ -368,7 +413,7 @@ TEST(CliDerive, PrintsCountsAndWritesTheGraph) {
     const auto result = ggg::test::run_cli("derive '" + grammar + "' --steps 3 -o '" + out + "'");
     ASSERT_EQ(result.code, 0) << result.err;
     const auto summary = nlohmann::json::parse(result.out);
-    EXPECT_EQ(summary["vertices"], 81);
+    EXPECT_EQ(summary["vertices"], 42); // 81 corners, two to a shared place
     EXPECT_EQ(summary["edges"], 81);
     EXPECT_EQ(summary["steps"], 3);
     EXPECT_EQ(summary["stopped_by_budget"], false);
@@ -378,7 +423,7 @@ TEST(CliDerive, PrintsCountsAndWritesTheGraph) {
     const auto budget = ggg::test::run_cli("derive '" + grammar + "' --steps 40 --max-vertices 1000 -o '" + out + "'");
     ASSERT_EQ(budget.code, 0) << budget.err;
     EXPECT_EQ(nlohmann::json::parse(budget.out)["stopped_by_budget"], true);
-    EXPECT_EQ(nlohmann::json::parse(budget.out)["vertices"], 729);
+    EXPECT_EQ(nlohmann::json::parse(budget.out)["vertices"], 366);
     EXPECT_NE(budget.err.find("--max-vertices"), std::string::npos);
 }
 

@@ -36,7 +36,10 @@ class GraphColumns:
     {"width", "lanes", "oneway"} with the values the library ``refused`` ({name: (mask,
     the original values)}), ``names`` (M str) or None, ``geometry`` (offsets, points) or
     None, and what only Blender holds: ``edge_attributes`` and ``point_attributes``
-    {name: (kind, values)}, ``vertex_flags`` and ``edge_flags`` {"select", "hide"}."""
+    {name: (kind, values)}, ``vertex_flags`` and ``edge_flags`` {"select", "hide"}; and
+    ``more_rewrites`` (Graph.more_rewrites) or None."""
+
+    more_rewrites = None
 
     @property
     def nonterminal_count(self):
@@ -51,7 +54,8 @@ class GraphColumns:
             self.positions, self.edges, origin_latlon=self.origin_latlon,
             vertex_symbols=self.symbols, vertex_frames=self.frames,
             edge_highway=highway, edge_width=self.columns.get("width"), edge_lanes=self.columns.get("lanes"),
-            edge_oneway=self.columns.get("oneway"), edge_names=self.names, edge_geometry=self.geometry)
+            edge_oneway=self.columns.get("oneway"), edge_names=self.names, edge_geometry=self.geometry,
+            more_rewrites=self.more_rewrites)
 
 
 def stacked(first, second, n_first, n_second, dtype, fill):
@@ -95,6 +99,15 @@ def joined(ggg, first, second, matrix):
     out.frame_missing = np.concatenate((first.frame_missing, second.frame_missing))
     ab = second.frames[:, :2] @ linear.T
     out.frames = np.column_stack((np.concatenate((first.frames[:, :2], ab)), out.positions))
+    parts = []
+    for part, offset, turn in ((first, 0, None), (second, n1, linear)):
+        if part.more_rewrites is not None:
+            vertices, symbols, frames = (np.asarray(column) for column in part.more_rewrites)
+            frames = np.asarray(frames, dtype=np.float64).reshape(-1, 4)
+            vertices = vertices.astype(np.int64) + offset
+            ab_more = frames[:, :2] if turn is None else frames[:, :2] @ turn.T
+            parts.append((vertices, symbols, np.column_stack((ab_more, out.positions[vertices]))))
+    out.more_rewrites = None if not parts else tuple(np.concatenate(column) for column in zip(*parts))
     road = ggg.highway_classes().index("road") if "road" in ggg.highway_classes() else 0
     out.highway = stacked(first.highway, second.highway, e1, e2, np.int64, road)
     out.columns, out.refused = {}, {}
@@ -134,3 +147,38 @@ def joined(ggg, first, second, matrix):
                       for name in first.edge_flags}
     out.origin_latlon = first.origin_latlon
     return out
+
+
+def more_rewrite_slots(vertex_count, more_rewrites):
+    """The rewrites pending at vertices besides their own (``Graph.more_rewrites``: vertices,
+    symbols, frames) as per-vertex slots: [(symbols (N,), a (N,), b (N,)), ...] for slots 2,
+    3, ...; a vertex with fewer has symbol 0 in the rest."""
+    vertices, symbols, frames = (np.asarray(column) for column in more_rewrites)
+    frames = frames.reshape(-1, 4)
+    slots = []
+    taken = np.zeros(vertex_count, dtype=np.int64)  # slots already filled per vertex
+    for vertex, symbol, frame in zip(vertices.astype(np.int64), symbols, frames):
+        k = taken[vertex]
+        if k == len(slots):
+            slots.append((np.zeros(vertex_count, dtype=np.int64), np.ones(vertex_count), np.zeros(vertex_count)))
+        slots[k][0][vertex], slots[k][1][vertex], slots[k][2][vertex] = symbol, frame[0], frame[1]
+        taken[vertex] += 1
+    return slots
+
+
+def more_rewrites_from_slots(slots, positions, symbols):
+    """``Graph.more_rewrites`` (vertices, symbols, frames) of per-vertex slots as
+    ``more_rewrite_slots`` makes them, at the vertices' ``positions``; None when there are none.
+    A slot at a terminal vertex (``symbols`` 0) or with a frame of no scale is left out."""
+    vertices, kinds, frames = [], [], []
+    for slot_symbols, a, b in slots:
+        usable = (slot_symbols > 0) & (np.asarray(symbols) > 0) & np.isfinite(a) & np.isfinite(b) & (np.hypot(a, b) > 0)
+        where = np.flatnonzero(usable)
+        vertices.append(where)
+        kinds.append(slot_symbols[where])
+        frames.append(np.column_stack((a[where], b[where], positions[where])))
+    if not vertices or not sum(len(v) for v in vertices):
+        return None
+    vertices = np.concatenate(vertices)
+    order = np.argsort(vertices, kind="stable")
+    return (vertices[order], np.concatenate(kinds)[order], np.concatenate(frames).reshape(-1, 4)[order])

@@ -177,7 +177,7 @@ def relabel(ggg, graph, latlon):
     same metres, no reprojection."""
     return ggg.Graph.from_arrays(graph.positions, graph.edges, origin_latlon=tuple(latlon),
                                  vertex_symbols=graph.vertex_symbols, vertex_frames=graph.vertex_frames,
-                                 edge_highway=graph.edge_highway)
+                                 edge_highway=graph.edge_highway, more_rewrites=graph.more_rewrites)
 
 
 def grammar_target(ggg, scene, grammar_origin):

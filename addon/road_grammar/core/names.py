@@ -16,6 +16,20 @@ CLASSES_KEY = "highway_classes"
 SYMBOL = "symbol"
 FRAME_A = "frame_a"
 FRAME_B = "frame_b"
+# Where rules place nonterminals with different frames at one place (the corner two
+# Sierpinski triangles share), the vertex carries each further rewrite in a slot k = 2, 3, ...
+# of its own: the point attributes symbol_k, frame_a_k, frame_b_k (symbol_k = 0: slot empty).
+MORE_REWRITE_PREFIXES = (SYMBOL + "_", FRAME_A + "_", FRAME_B + "_")
+
+
+def more_rewrite_names(slot):
+    """(symbol, frame_a, frame_b) attribute names of slot ``slot`` (2, 3, ...)."""
+    return tuple("{}{}".format(prefix, slot) for prefix in MORE_REWRITE_PREFIXES)
+
+
+def is_more_rewrite_name(name):
+    """Whether ``name`` is an attribute of a slot of further rewrites."""
+    return any(name.startswith(prefix) and name[len(prefix):].isdigit() for prefix in MORE_REWRITE_PREFIXES)
 # Surface segment attribute: the graph edge the segment belongs to.
 SURFACE_EDGE = "graph_edge"
 # Edge attribute (text) of the graph mesh: the road's name, when some road has one.

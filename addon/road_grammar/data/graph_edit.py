@@ -22,8 +22,10 @@ import contextlib
 import bpy
 import numpy as np
 
-from ..core.columns import GRAPH_EDGE_ATTRIBUTES, GRAPH_POINT_ATTRIBUTES, RANGED_COLUMNS, GraphColumns
-from ..core.names import FRAME_A, FRAME_B, NAME, RULE_GRAMMAR, RULE_GRAMMARS_KEY, SURFACE_EDGE, SYMBOL
+from ..core.columns import (GRAPH_EDGE_ATTRIBUTES, GRAPH_POINT_ATTRIBUTES, RANGED_COLUMNS, GraphColumns,
+                            more_rewrites_from_slots)
+from ..core.names import (FRAME_A, FRAME_B, NAME, RULE_GRAMMAR, RULE_GRAMMARS_KEY, SURFACE_EDGE, SYMBOL,
+                          is_more_rewrite_name, more_rewrite_names)
 from ..core.polylines import complete_polylines, segment_polylines
 from ..core.topology import carried, kept_edges
 from . import mesh as mesh_data
@@ -52,6 +54,7 @@ class MeshGraph(GraphColumns):
         self.frame_missing = degenerate | without_frames
         a, b = np.where(degenerate, 1.0, a), np.where(degenerate, 0.0, b)
         self.frames = np.column_stack((a, b, self.positions))
+        self.more_rewrites = more_rewrites_from_slots(_slots(mesh), self.positions, self.symbols)
         self.highway = _values(mesh, "highway", 'EDGE', np.int64)
         # Ranged columns: (values for the library, the mesh's values where it refuses them).
         self.columns, self.refused = {}, {}
@@ -68,7 +71,7 @@ class MeshGraph(GraphColumns):
         self.edge_attributes = {name: value for name, value in mesh_data.user_attributes(mesh, 'EDGE').items()
                                 if name not in GRAPH_EDGE_ATTRIBUTES}
         self.point_attributes = {name: value for name, value in mesh_data.user_attributes(mesh, 'POINT').items()
-                                 if name not in GRAPH_POINT_ATTRIBUTES}
+                                 if name not in GRAPH_POINT_ATTRIBUTES and not is_more_rewrite_name(name)}
         self.vertex_flags = mesh_data.read_flags(mesh.vertices)
         self.edge_flags = mesh_data.read_flags(mesh.edges)
         lat = float(obj.get("origin_lat", 0.0))
@@ -82,6 +85,19 @@ def _values(mesh, name, domain, dtype):
     if attribute is None or attribute.domain != domain or attribute.data_type not in ('INT', 'FLOAT'):
         return None
     return mesh_data.read_attribute(mesh, name, dtype)
+
+
+def _slots(mesh):
+    """The slots of further rewrites the mesh has (core.names.more_rewrite_names), in order,
+    as (symbols, a, b); the first slot missing ends them."""
+    slots = []
+    for slot in range(2, 2 + len(mesh.vertices) + 1):
+        columns = [_values(mesh, name, 'POINT', dtype)
+                   for name, dtype in zip(more_rewrite_names(slot), (np.int64, np.float64, np.float64))]
+        if any(column is None for column in columns):
+            break
+        slots.append(tuple(columns))
+    return slots
 
 
 def surface_polylines(graph_obj, positions, edges):
@@ -137,7 +153,7 @@ class Replacement:
         for name, (kind, values) in old.edge_attributes.items():
             edge_attributes[name] = (kind, carried(values, edge_source))
         self.edge_attributes = edge_attributes
-        point_attributes = roads.vertex_attributes(result.vertex_symbols, result.vertex_frames)
+        point_attributes = roads.vertex_attributes(result.vertex_symbols, result.vertex_frames, result.more_rewrites)
         for name, (kind, values) in old.point_attributes.items():
             point_attributes[name] = (kind, carried(values, vertex_source))
         self.point_attributes = point_attributes

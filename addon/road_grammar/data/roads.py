@@ -21,8 +21,9 @@ import time
 import bpy
 import numpy as np
 
+from ..core.columns import more_rewrite_slots
 from ..core.names import (CLASSES_KEY, FRAME_A, FRAME_B, GRAPH_KEY, NAME, PATTERNS_KEY, RULES_KEY, SURFACE_EDGE,
-                          SURFACE_KEY, SYMBOL)
+                          SURFACE_KEY, SYMBOL, more_rewrite_names)
 from ..core.polylines import polyline_segments
 from . import mesh
 
@@ -191,14 +192,22 @@ def graph_edge_attributes(graph, widths):
     return attributes
 
 
-def vertex_attributes(symbols, frames):
-    """The point attributes of nonterminals: symbol and the frame's (a, b)."""
+def vertex_attributes(symbols, frames, more_rewrites=None):
+    """The point attributes of nonterminals: symbol and the frame's (a, b), and the slots of
+    the rewrites pending at a vertex besides its own (``Graph.more_rewrites``)."""
     frames = np.asarray(frames, dtype=np.float64).reshape(-1, 4)
-    return {
+    attributes = {
         SYMBOL: ('INT', np.asarray(symbols, dtype=np.int64)),
         FRAME_A: ('FLOAT', frames[:, 0]),
         FRAME_B: ('FLOAT', frames[:, 1]),
     }
+    if more_rewrites is not None:
+        for slot, (slot_symbols, a, b) in enumerate(more_rewrite_slots(len(frames), more_rewrites), start=2):
+            symbol_name, a_name, b_name = more_rewrite_names(slot)
+            attributes[symbol_name] = ('INT', slot_symbols)
+            attributes[a_name] = ('FLOAT', a)
+            attributes[b_name] = ('FLOAT', b)
+    return attributes
 
 
 def surface_geometry(positions, edges, offsets, points, edge_attributes):
@@ -236,7 +245,7 @@ def new_objects(graph, classes, widths, name, source, options, created, with_sur
     edge_attributes = graph_edge_attributes(graph, widths)
     graph_mesh = created.add(mesh.new_edge_mesh(
         name, positions, edges, edge_attributes,
-        vertex_attributes(graph.vertex_symbols, graph.vertex_frames) if with_frames else None))
+        vertex_attributes(graph.vertex_symbols, graph.vertex_frames, graph.more_rewrites) if with_frames else None))
     graph_obj = created.add(bpy.data.objects.new(name, graph_mesh))
     graph_obj[GRAPH_KEY] = 1
     graph_obj[CLASSES_KEY] = {class_name: code for code, class_name in enumerate(classes)}

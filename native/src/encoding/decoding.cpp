@@ -151,6 +151,7 @@ GeometricGraph encoded_graph(const Grammar& grammar, int level, const ProgressCa
         out.frames.back() = partial.frames[v];
     }
     out.instances = partial.instances;
+    out.more_rewrites = partial.more_rewrites;
     std::map<std::pair<VertexId, VertexId>, EdgeId> seen;
     for (std::size_t e = 0; e < streets.edge_count(); ++e) {
         VertexId a = image[static_cast<std::size_t>(streets.edges[e][0])];

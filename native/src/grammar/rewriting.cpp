@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <unordered_map>
 #include <unordered_set>
 
 
@@ -37,6 +38,7 @@ public:
             const VertexId id = next_.add_vertex(old.positions[v], old.vertex_osm_ids[v]);
             next_.symbols.back() = old.symbols[v];
             next_.frames.back() = old.frames[v];
+            copy_more_rewrites(old, static_cast<VertexId>(v), next_, id);
             instances_.push_back(old.instance_of(static_cast<VertexId>(v)));
             new_id_[v] = id;
             index(id);
@@ -82,22 +84,27 @@ public:
         return best;
     }
 
-    // Places a vertex, merging it into one within `tolerance` when that is the same place.
-    // Two nonterminals merge only when they would rewrite identically: same symbol, frame
-    // and instance (two instances of a learned grammar never do).
+    // Places a vertex, merging it into one within `tolerance` when that is the same place:
+    // one vertex per place. A nonterminal that lands on another with a different rewrite
+    // becomes one more rewrite pending there. Vertices of learned instances never merge with
+    // other nonterminals (their decoding depends on each keeping its own vertex).
     VertexId place(const Vec2& p, Symbol symbol, const Similarity2& frame, std::int32_t instance, double tolerance, bool& merged) {
         const VertexId existing = nearest(p, tolerance, [&](VertexId v) {
             const Symbol s = next_.symbols[static_cast<std::size_t>(v)];
             if (s == 0 || symbol == 0) return true;
-            return s == symbol && instances_[static_cast<std::size_t>(v)] == instance &&
-                   same_frame(next_.frames[static_cast<std::size_t>(v)], frame, tolerance);
+            const std::int32_t there = instances_[static_cast<std::size_t>(v)];
+            return there == instance && (instance < 0 || (s == symbol && same_frame(next_.frames[static_cast<std::size_t>(v)], frame, tolerance)));
         });
         if (existing >= 0) {
             merged = true;
-            if (symbol != 0 && next_.symbols[static_cast<std::size_t>(existing)] == 0) {
-                next_.symbols[static_cast<std::size_t>(existing)] = symbol;
-                next_.frames[static_cast<std::size_t>(existing)] = frame;
-                instances_[static_cast<std::size_t>(existing)] = instance;
+            const auto e = static_cast<std::size_t>(existing);
+            if (symbol != 0 && next_.symbols[e] == 0) {
+                next_.symbols[e] = symbol;
+                next_.frames[e] = frame;
+                instances_[e] = instance;
+            } else if (symbol != 0 && !pending_at(existing, symbol, frame, tolerance)) {
+                added_at_.emplace(existing, added_rewrites_.size());
+                added_rewrites_.push_back({existing, symbol, frame});
             }
             return existing;
         }
@@ -117,12 +124,33 @@ public:
     }
 
     GeometricGraph take() {
+        if (!added_rewrites_.empty()) {
+            next_.more_rewrites.insert(next_.more_rewrites.end(), added_rewrites_.begin(), added_rewrites_.end());
+            std::stable_sort(next_.more_rewrites.begin(), next_.more_rewrites.end(),
+                             [](const PendingRewrite& a, const PendingRewrite& b) { return a.vertex < b.vertex; });
+        }
         if (std::any_of(instances_.begin(), instances_.end(), [](std::int32_t i) { return i >= 0; })) next_.instances = std::move(instances_);
         return std::move(next_);
     }
     const GeometricGraph& graph() const { return next_; }
 
 private:
+    // Whether v already has the rewrite (symbol, frame) pending.
+    bool pending_at(VertexId v, Symbol symbol, const Similarity2& frame, double tolerance) const {
+        const auto i = static_cast<std::size_t>(v);
+        if (next_.symbols[i] == symbol && same_frame(next_.frames[i], frame, tolerance)) return true;
+        const auto same = [&](const PendingRewrite& r) { return r.vertex == v && r.symbol == symbol && same_frame(r.frame, frame, tolerance); };
+        if (v < survivors_) {
+            const auto [first, last] = next_.more_rewrites_at(v);
+            if (std::any_of(first, last, same)) return true;
+        }
+        const auto [first, last] = added_at_.equal_range(v);
+        for (auto it = first; it != last; ++it) {
+            if (same(added_rewrites_[it->second])) return true;
+        }
+        return false;
+    }
+
     void index(VertexId id) {
         const Vec2& p = next_.positions[static_cast<std::size_t>(id)];
         tree_.insert({spatial::point(p), id});
@@ -135,6 +163,8 @@ private:
     VertexId survivors_ = 0;
     spatial::RTree<Entry> tree_;
     std::unordered_set<std::uint64_t> edge_keys_;
+    std::vector<PendingRewrite> added_rewrites_; // by this step, in the order they came
+    std::unordered_multimap<VertexId, std::size_t> added_at_; // vertex -> its entries in added_rewrites_
 };
 
 double world_tolerance(const DeriveOptions& options, const Similarity2& frame) {
@@ -192,10 +222,24 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
     StepReport report;
     if (over_budget) *over_budget = false;
     const std::size_t n = g.vertex_count();
+    // Every rewrite pending at each vertex, its own first: pending[first[v] .. first[v+1]).
+    std::vector<PendingRewrite> pending;
+    std::vector<std::size_t> first(n + 1, 0);
+    {
+        std::size_t extra = 0;
+        for (std::size_t v = 0; v < n; ++v) {
+            first[v] = pending.size();
+            if (g.symbols[v] != 0) pending.push_back({static_cast<VertexId>(v), g.symbols[v], g.frames[v]});
+            for (; extra < g.more_rewrites.size() && g.more_rewrites[extra].vertex == static_cast<VertexId>(v); ++extra) {
+                pending.push_back(g.more_rewrites[extra]);
+            }
+        }
+        first[n] = pending.size();
+    }
+    // A vertex is rewritten when a rule rewrites any of what is pending there.
     std::vector<char> erased(n, 0);
-    std::vector<VertexId> rewrites;
     for (std::size_t v = 0; v < n; ++v) {
-        if (g.symbols[v] != 0 && grammar.rule_for(g.symbols[v])) erased[v] = 1;
+        for (std::size_t k = first[v]; k < first[v + 1] && !erased[v]; ++k) erased[v] = grammar.rule_for(pending[k].symbol) != nullptr;
     }
     // Strict mode decides against the host as it is before the step, less what it rewrites.
     spatial::RTree<Entry> host;
@@ -206,21 +250,32 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
         }
         host = spatial::RTree<Entry>(entries.begin(), entries.end());
     }
-    std::size_t placed_upper_bound = 0;
+    std::vector<std::size_t> rewrites; // into `pending`
+    std::vector<std::size_t> kept;     // into `pending`: nonterminals with no rule at a rewritten vertex
+    std::size_t placed_upper_bound = 0, erased_count = 0;
     for (std::size_t v = 0; v < n; ++v) {
         if (!erased[v]) continue;
-        const Rule& rule = *grammar.rule_for(g.symbols[v]);
-        if (options.strict && !embedding_complete(host, g, rule, g.frames[v], world_tolerance(options, g.frames[v]))) {
-            erased[v] = 0;
-            ++report.refused;
-            continue;
+        if (options.strict) {
+            for (std::size_t k = first[v]; k < first[v + 1] && erased[v]; ++k) {
+                const Rule* rule = grammar.rule_for(pending[k].symbol);
+                const Similarity2& frame = pending[k].frame;
+                if (rule && !embedding_complete(host, g, *rule, frame, world_tolerance(options, frame))) erased[v] = 0;
+            }
+            if (!erased[v]) {
+                ++report.refused;
+                continue;
+            }
         }
-        rewrites.push_back(static_cast<VertexId>(v));
-        placed_upper_bound += rule.vertices.size();
+        ++erased_count;
+        for (std::size_t k = first[v]; k < first[v + 1]; ++k) {
+            const Rule* rule = grammar.rule_for(pending[k].symbol);
+            (rule ? rewrites : kept).push_back(k);
+            placed_upper_bound += rule ? rule->vertices.size() : 1;
+        }
     }
     if (report_out) *report_out = report;
     if (rewrites.empty()) return false;
-    if (n - rewrites.size() + placed_upper_bound > options.max_vertices) {
+    if (n - erased_count + placed_upper_bound > options.max_vertices) {
         if (over_budget) *over_budget = true;
         return false;
     }
@@ -228,15 +283,26 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
     StepBuilder builder(g, erased);
     std::vector<Rewrite> placed(rewrites.size());
     std::vector<Placement> placements;
+    // What has no rule stays pending where it was, at the place the vertex's rewrites fill.
+    for (std::size_t k : kept) {
+        bool merged = false;
+        const PendingRewrite& p = pending[k];
+        const bool own = k == first[static_cast<std::size_t>(p.vertex)];
+        const VertexId v = builder.place(g.positions[static_cast<std::size_t>(p.vertex)], p.symbol, p.frame,
+                                         own ? g.instance_of(p.vertex) : -1, world_tolerance(options, p.frame), merged);
+        if (!merged && placed_out) placements.resize(static_cast<std::size_t>(v) + 1);
+    }
     // Steps 1-3 for every rewrite: S in q's frame, q erased (by the builder), S placed.
     for (std::size_t r = 0; r < rewrites.size(); ++r) {
-        const auto q = static_cast<std::size_t>(rewrites[r]);
+        const PendingRewrite& pr = pending[rewrites[r]];
+        const auto q = static_cast<std::size_t>(pr.vertex);
         Rewrite& w = placed[r];
-        w.rule = grammar.rule_for(g.symbols[q]);
-        w.frame = g.frames[q];
-        const std::int32_t id = g.instance_of(static_cast<VertexId>(q));
+        w.rule = grammar.rule_for(pr.symbol);
+        w.frame = pr.frame;
+        // Only a vertex's own rewrite can be an instance of a learned grammar: those never share a place.
+        const std::int32_t id = rewrites[r] == first[q] ? g.instance_of(pr.vertex) : -1;
         if (id >= 0 && static_cast<std::size_t>(id) < grammar.encoding.instances.size() &&
-            grammar.encoding.instances[static_cast<std::size_t>(id)].symbol == g.symbols[q]) {
+            grammar.encoding.instances[static_cast<std::size_t>(id)].symbol == pr.symbol) {
             w.instance = &grammar.encoding.instances[static_cast<std::size_t>(id)];
             w.instance_id = id;
             w.frame = w.frame * w.instance->correction.at(Vec2::Zero());
@@ -340,6 +406,7 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
         const std::vector<Symbol> symbols_before = g.symbols;
         const std::vector<Similarity2> frames_before = g.frames;
         const std::vector<std::array<VertexId, 2>> edges_before = g.edges;
+        const std::vector<PendingRewrite> more_before = g.more_rewrites;
         if (!derive_step(g, grammar, options, &s, &over_budget, &step_source, &step_placed)) {
             result.stopped_by_budget = over_budget;
             result.nothing_to_rewrite = !over_budget;
@@ -350,6 +417,8 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
             return p.allFinite() && p.cwiseAbs().maxCoeff() < 1e12;
         }) && std::all_of(g.frames.begin(), g.frames.end(), [](const Similarity2& f) {
             return std::isfinite(f.a) && std::isfinite(f.b) && f.scale() > 0;
+        }) && std::all_of(g.more_rewrites.begin(), g.more_rewrites.end(), [](const PendingRewrite& r) {
+            return std::isfinite(r.frame.a) && std::isfinite(r.frame.b) && r.frame.t.allFinite() && r.frame.scale() > 0;
         });
         if (!finite) {
             throw GrammarError("derivation step " + std::to_string(step + 1) +
@@ -374,7 +443,12 @@ DeriveReport derive(GeometricGraph& g, const Grammar& grammar, const DeriveOptio
         const bool same_frames = std::equal(g.frames.begin(), g.frames.end(), frames_before.begin(), frames_before.end(),
                                             [](const Similarity2& x, const Similarity2& y) { return x.a == y.a && x.b == y.b && x.t == y.t; });
         if (g.vertex_count() == vertices_before && g.edges == edges_before && g.positions == positions_before &&
-            g.symbols == symbols_before && same_frames) {
+            g.symbols == symbols_before && same_frames &&
+            std::equal(g.more_rewrites.begin(), g.more_rewrites.end(), more_before.begin(), more_before.end(),
+                       [](const PendingRewrite& x, const PendingRewrite& y) {
+                           return x.vertex == y.vertex && x.symbol == y.symbol && x.frame.a == y.frame.a && x.frame.b == y.frame.b &&
+                                  x.frame.t == y.frame.t;
+                       })) {
             result.converged = true;
             break;
         }

@@ -1,6 +1,7 @@
 #include "ggg/graph/geometric_graph.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <string>
 
@@ -15,6 +16,18 @@ VertexId GeometricGraph::add_vertex(const Vec2& position, std::int64_t osm_id) {
     symbols.push_back(0);
     frames.push_back(Similarity2::from(1.0, 0.0, position));
     return id;
+}
+
+std::pair<const PendingRewrite*, const PendingRewrite*> GeometricGraph::more_rewrites_at(VertexId v) const {
+    const auto [first, last] = std::equal_range(more_rewrites.begin(), more_rewrites.end(), PendingRewrite{v, 0, {}},
+                                                [](const PendingRewrite& a, const PendingRewrite& b) { return a.vertex < b.vertex; });
+    return {more_rewrites.data() + (first - more_rewrites.begin()), more_rewrites.data() + (last - more_rewrites.begin())};
+}
+
+void copy_more_rewrites(const GeometricGraph& from, VertexId v, GeometricGraph& to, VertexId w) {
+    if (from.more_rewrites.empty()) return;
+    const auto [first, last] = from.more_rewrites_at(v);
+    for (const PendingRewrite* r = first; r != last; ++r) to.more_rewrites.push_back({w, r->symbol, r->frame});
 }
 
 std::uint32_t GeometricGraph::intern_name(const std::string& name) {
@@ -166,6 +179,19 @@ std::string check_simple(const GeometricGraph& g) {
             return where.str() + " has a polyline that does not join its end vertices";
         }
         keys.emplace_back(std::min(u, v), std::max(u, v));
+    }
+    for (std::size_t i = 0; i < g.more_rewrites.size(); ++i) {
+        const PendingRewrite& r = g.more_rewrites[i];
+        std::ostringstream where;
+        where << "pending rewrite " << i << " (vertex " << r.vertex << ")";
+        if (r.vertex < 0 || r.vertex >= n) return where.str() + " has a vertex out of range";
+        if (i > 0 && r.vertex < g.more_rewrites[i - 1].vertex) return where.str() + " is out of vertex order";
+        if (r.symbol == 0 || g.symbols[static_cast<std::size_t>(r.vertex)] == 0) {
+            return where.str() + " is not a nonterminal at a nonterminal vertex";
+        }
+        if (!std::isfinite(r.frame.a) || !std::isfinite(r.frame.b) || !r.frame.t.allFinite() || !(r.frame.scale() > 0)) {
+            return where.str() + " has no valid frame";
+        }
     }
     std::sort(keys.begin(), keys.end());
     const auto dup = std::adjacent_find(keys.begin(), keys.end());

@@ -21,6 +21,7 @@ VertexId copy_vertex(const GeometricGraph& from, VertexId v, GeometricGraph& to)
     const VertexId w = to.add_vertex(from.positions[i], from.vertex_osm_ids[i]);
     to.symbols.back() = from.symbols[i];
     to.frames.back() = from.frames[i];
+    copy_more_rewrites(from, v, to, w);
     if (!from.instances.empty() || !to.instances.empty()) {
         to.instances.resize(static_cast<std::size_t>(w), -1);
         to.instances.push_back(from.instance_of(v));

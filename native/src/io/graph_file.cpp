@@ -45,6 +45,17 @@ json graph_to_json(const GeometricGraph& g) {
         for (const auto& f : g.frames) frames.push_back({f.a, f.b, f.t.x(), f.t.y()});
         vertices["frame"] = std::move(frames);
     }
+    // Rewrites pending at a vertex besides its own (version 2): where rules placed
+    // nonterminals with different frames at one place.
+    if (!g.more_rewrites.empty()) {
+        json at = json::array(), symbol = json::array(), frame = json::array();
+        for (const PendingRewrite& r : g.more_rewrites) {
+            at.push_back(r.vertex);
+            symbol.push_back(r.symbol);
+            frame.push_back({r.frame.a, r.frame.b, r.frame.t.x(), r.frame.t.y()});
+        }
+        vertices["more_rewrites"] = {{"vertex", std::move(at)}, {"symbol", std::move(symbol)}, {"frame", std::move(frame)}};
+    }
 
     json u = json::array(), v = json::array(), highway = json::array(), oneway = json::array(), lanes = json::array(),
          width = json::array(), way = json::array(), name = json::array(), shape = json::array();
@@ -71,7 +82,8 @@ json graph_to_json(const GeometricGraph& g) {
     for (int c = 0; c < highway_class_count; ++c) classes.push_back(highway_name(static_cast<HighwayClass>(c)));
     return {
         {"format", "ggg-graph"},
-        {"version", graph_file_version},
+        // The oldest version that holds what the graph has, so older programs read most files.
+        {"version", g.more_rewrites.empty() ? 1 : graph_file_version},
         {"origin_latlon", {g.origin.lat, g.origin.lon}},
         {"highway_classes", std::move(classes)},
         {"names", g.names},
@@ -145,6 +157,29 @@ GeometricGraph graph_from_json(const json& doc, const std::string& name) {
             if (!f[v].is_array() || f[v].size() != 4) r.fail(where, "must be [a, b, tx, ty]");
             g.frames[v] = {r.number(f[v][0], where), r.number(f[v][1], where), {r.number(f[v][2], where), r.number(f[v][3], where)}};
             if (g.frames[v].a == 0 && g.frames[v].b == 0) r.fail(where, "a frame must not have zero scale");
+        }
+    }
+    if (vertices.contains("more_rewrites")) {
+        const json& more = r.member(vertices, "more_rewrites", "vertices");
+        const json& at_vertex = r.column(more, "vertex", "vertices.more_rewrites", Reader::npos);
+        const std::size_t k = at_vertex.size();
+        const json& symbol = r.column(more, "symbol", "vertices.more_rewrites", k);
+        const json& frame = r.column(more, "frame", "vertices.more_rewrites", k);
+        const auto last = static_cast<std::int64_t>(n) - 1;
+        for (std::size_t i = 0; i < k; ++i) {
+            PendingRewrite pr;
+            pr.vertex = static_cast<VertexId>(r.integer(at_vertex[i], "vertices.more_rewrites." + at("vertex", i), 0, last));
+            if (i > 0 && pr.vertex < g.more_rewrites.back().vertex) r.fail("vertices.more_rewrites." + at("vertex", i), "must be in vertex order");
+            pr.symbol = static_cast<std::uint32_t>(
+                r.integer(symbol[i], "vertices.more_rewrites." + at("symbol", i), 1, std::numeric_limits<std::uint32_t>::max()));
+            if (g.symbols[static_cast<std::size_t>(pr.vertex)] == 0) {
+                r.fail("vertices.more_rewrites." + at("vertex", i), "vertex " + std::to_string(pr.vertex) + " is not a nonterminal");
+            }
+            const std::string where = "vertices.more_rewrites." + at("frame", i);
+            if (!frame[i].is_array() || frame[i].size() != 4) r.fail(where, "must be [a, b, tx, ty]");
+            pr.frame = {r.number(frame[i][0], where), r.number(frame[i][1], where), {r.number(frame[i][2], where), r.number(frame[i][3], where)}};
+            if (pr.frame.a == 0 && pr.frame.b == 0) r.fail(where, "a frame must not have zero scale");
+            g.more_rewrites.push_back(pr);
         }
     }
 

@@ -41,8 +41,10 @@ void reproject(GeometricGraph& g, GeoOrigin origin) {
     std::vector<Vec2> frame_origins;
     frame_origins.reserve(g.frames.size());
     for (const auto& f : g.frames) frame_origins.push_back(f.t);
+    for (const auto& r : g.more_rewrites) frame_origins.push_back(r.frame.t);
     move(std::span<Vec2>(frame_origins));
     for (std::size_t v = 0; v < g.frames.size(); ++v) g.frames[v].t = frame_origins[v];
+    for (std::size_t i = 0; i < g.more_rewrites.size(); ++i) g.more_rewrites[i].frame.t = frame_origins[g.frames.size() + i];
     g.origin = origin;
 }
 

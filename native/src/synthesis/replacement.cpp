@@ -239,6 +239,7 @@ GeometricGraph replace_occurrences(const GeometricGraph& g, const Isogroup& grou
         new_id[v] = host.add_vertex(g.positions[v], g.vertex_osm_ids[v]);
         host.symbols.back() = g.symbols.empty() ? 0 : g.symbols[v];
         host.frames.back() = g.frames.empty() ? Similarity2::from(1, 0, g.positions[v]) : g.frames[v];
+        copy_more_rewrites(g, static_cast<VertexId>(v), host, new_id[v]);
     }
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         if (own_street(e)) continue;

@@ -23,6 +23,7 @@ GeometricGraph rebuilt(const GeometricGraph& g, const std::vector<char>& drop_ve
         id[v] = kept.add_vertex(g.positions[v], g.vertex_osm_ids.empty() ? 0 : g.vertex_osm_ids[v]);
         if (!g.symbols.empty()) kept.symbols[static_cast<std::size_t>(id[v])] = g.symbols[v];
         if (!g.frames.empty()) kept.frames[static_cast<std::size_t>(id[v])] = g.frames[v];
+        copy_more_rewrites(g, static_cast<VertexId>(v), kept, id[v]);
     }
     for (const Street& street : streets) {
         kept.add_edge(id[static_cast<std::size_t>(street.a)], id[static_cast<std::size_t>(street.b)], street.attributes, street.polyline);

@@ -7,8 +7,11 @@
 // host as it was plus what the step has placed so far, never a half-rewritten vertex.
 //
 // Merging: a placed vertex that lands within the tolerance of a vertex already there is that
-// vertex. Two nonterminals only merge when they would rewrite identically (same symbol and
-// frame); otherwise both stay, since each stands for its own pending rewrite.
+// vertex, so every place is one vertex. Where two nonterminals with different rewrites meet,
+// the vertex keeps both (GeometricGraph::more_rewrites) and the next step rewrites it once for
+// each: the corners two Sierpinski triangles share stay one vertex, step after step. Vertices
+// of an instance of a learned grammar are the exception: they never merge with another
+// nonterminal, since each must decode to its own streets.
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -10,6 +10,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "ggg/graph/road_class.hpp"
@@ -36,6 +37,15 @@ struct EdgeAttributes {
     std::string name;
 };
 
+// A rewrite pending at a vertex besides the one its own symbol and frame hold. Where rules
+// place nonterminals with different frames at one place (the corner two Sierpinski triangles
+// share), the place stays one vertex, rewritten once for each of its pending rewrites.
+struct PendingRewrite {
+    VertexId vertex = -1;
+    std::uint32_t symbol = 0;
+    Similarity2 frame;
+};
+
 class GeometricGraph {
 public:
     GeoOrigin origin;
@@ -48,6 +58,9 @@ public:
     // Per vertex, the instance of a learned grammar (Grammar::encoding) that rewrites it, -1
     // for none. Optional: empty means none anywhere, so graphs outside a decoding never carry it.
     std::vector<std::int32_t> instances;
+    // Rewrites pending at a vertex besides symbols[v] and frames[v], sorted by vertex (stable
+    // among one vertex's). Empty unless nonterminals of different rewrites share a place.
+    std::vector<PendingRewrite> more_rewrites;
 
     // Edges.
     std::vector<std::array<VertexId, 2>> edges;
@@ -69,6 +82,8 @@ public:
         return static_cast<std::size_t>(v) < instances.size() ? instances[static_cast<std::size_t>(v)] : -1;
     }
     std::size_t edge_count() const noexcept { return edges.size(); }
+    // The entries of more_rewrites at v, as [first, last).
+    std::pair<const PendingRewrite*, const PendingRewrite*> more_rewrites_at(VertexId v) const;
 
     VertexId add_vertex(const Vec2& position, std::int64_t osm_id = 0);
     // `polyline` includes both end points; an empty one means the straight segment.
@@ -115,6 +130,10 @@ struct Adjacency {
         return static_cast<std::size_t>(offsets[static_cast<std::size_t>(v) + 1] - offsets[static_cast<std::size_t>(v)]);
     }
 };
+
+// Appends to `to` the rewrites pending at vertex v of `from` besides its own, at vertex w of
+// `to`. Callers append vertices in order, so `to.more_rewrites` stays sorted.
+void copy_more_rewrites(const GeometricGraph& from, VertexId v, GeometricGraph& to, VertexId w);
 
 // What makes a graph "simple" here; empty when the graph is fine, else the first problem.
 // Used by tests and as a guard after import.

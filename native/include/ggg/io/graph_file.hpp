@@ -11,7 +11,8 @@
 
 namespace ggg {
 
-inline constexpr int graph_file_version = 1;
+// Version 2 adds vertices.more_rewrites; a graph without them is written as version 1.
+inline constexpr int graph_file_version = 2;
 
 nlohmann::json graph_to_json(const GeometricGraph& graph);
 // Throws InputError naming the member that is wrong ("edges.u[12]: vertex 99 out of range").
