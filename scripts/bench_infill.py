@@ -354,7 +354,7 @@ def measure(city, seeds):
             "through": c["a"]["through_share"], "real_through": c["b"]["through_share"],
             "circuity": c["a"]["circuity"], "real_circuity": c["b"]["circuity"],
             "junction_angle": c["distances"]["junction_angle"], "distances": c["distances"],
-            "mean": c["distances"]["mean"], "ring_mean": floor["distances"]["mean"],
+            "mean": c["distances"]["mean"], "ring_mean": floor["distances"]["mean"], "ring_distances": floor["distances"],
             "crossings": crossings(grown, set(new_edges.tolist())),
             "shared_places": shared_places(grown) - shared_places(rest),
             "learn_s": learn_seconds, "grow_s": grow_seconds, "rules": stats["rules"],

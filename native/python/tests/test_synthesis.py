@@ -71,7 +71,7 @@ def test_continue_hierarchy_joins_facing_main_roads():
     g = ggg.Graph.from_arrays(positions, edges, edge_highway=highway)
     out, report = ggg.continue_hierarchy(g, 2)
     assert report == {"main_roads": 2, "routes": 0, "raised_streets": 0, "connectors": 1,
-                      "connector_streets": 2, "intersections": 1}
+                      "connector_streets": 2, "intersections": 1, "extensions": 0}
     assert out.vertex_count == 9 and out.edge_count == 8
     np.testing.assert_allclose(out.positions[8], [300.0, 200.0])
     assert np.array_equal(out.edges[:2], edges[:2]) and np.array_equal(out.edge_highway[:5], highway)

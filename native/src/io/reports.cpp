@@ -91,6 +91,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"main_road_routes", r.main_road_routes},
         {"raised_streets", r.raised_streets},
         {"main_road_connectors", r.main_road_connectors},
+        {"main_road_extensions", r.main_road_extensions},
         {"intersections", r.intersections},
         {"grid", r.grid},
         {"filled", r.filled},
@@ -224,7 +225,8 @@ nlohmann::json hierarchy_report_json(const HierarchyReport& report) {
             {"raised_streets", report.raised_streets},
             {"connectors", report.connectors},
             {"connector_streets", report.connector_streets},
-            {"intersections", report.intersections}};
+            {"intersections", report.intersections},
+            {"extensions", report.extensions}};
 }
 
 nlohmann::json replacement_report_json(const ReplaceReport& report) {

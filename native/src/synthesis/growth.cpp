@@ -144,6 +144,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.raised_streets = h.raised_streets;
         report.main_road_connectors = h.connectors;
         report.intersections = h.intersections;
+        report.main_road_extensions = h.extensions;
     }
     report.added_vertices = g_.vertex_count() - base_vertices_;
     report.added_edges = g_.edge_count() - base_edges_;

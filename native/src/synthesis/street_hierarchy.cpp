@@ -184,6 +184,81 @@ std::optional<Connector> plan_connector(const GeometricGraph& g, const StreetInd
     return c;
 }
 
+// A main road's end continued straight ahead to the first grown street it meets: a T-junction
+// on that street (split there), or the grown vertex it passes within the clearance.
+struct Extension {
+    long split_edge = -1; // the grown street split at `where`, else -1
+    Vec2 where = Vec2::Zero();
+    VertexId vertex = -1; // or the grown vertex it ends at
+};
+
+std::optional<Extension> plan_extension(const GeometricGraph& g, const StreetIndex& index, std::size_t first, VertexId s,
+                                        const Vec2& heading, const HierarchyOptions& o) {
+    const Vec2 p = g.positions[static_cast<std::size_t>(s)];
+    const Vec2 far = p + o.max_connector_m * heading;
+    // The first street ahead: where the ray meets a polyline piece, by distance along it.
+    double hit = std::numeric_limits<double>::infinity();
+    std::size_t hit_edge = 0;
+    index.segments_near(p, far, [&](std::size_t e, std::size_t k) {
+        const auto [a, b] = g.edges[e];
+        if (a == s || b == s) return;
+        const Vec2* points = g.geometry_begin(static_cast<EdgeId>(e));
+        const auto m = segment_meeting(p, far, points[k], points[k + 1]);
+        if (m && m->first * o.max_connector_m < hit) {
+            hit = m->first * o.max_connector_m;
+            hit_edge = e;
+        }
+    });
+    if (!std::isfinite(hit) || hit_edge < first) return std::nullopt; // nothing ahead, or a street of the city first
+    // A grown vertex within the clearance of the way there: the road ends at it instead.
+    Extension x;
+    double nearest = hit;
+    const Vec2 at = p + hit * heading;
+    index.vertices_near(p, at, o.clearance_m, [&](VertexId v) {
+        if (v == s || index.in_base(v)) return;
+        const Vec2 q = g.positions[static_cast<std::size_t>(v)];
+        const double along = (q - p).dot(heading);
+        if (along <= 0.0 || along > hit + o.clearance_m || distance_to_segment(q, p, at) >= o.clearance_m) return;
+        if (along < nearest || x.vertex < 0) {
+            nearest = along;
+            x.vertex = v;
+        }
+    });
+    Vec2 target = at;
+    if (x.vertex >= 0) {
+        target = g.positions[static_cast<std::size_t>(x.vertex)];
+        int degree = 0;
+        for (const auto& [a, b] : g.edges) degree += a == x.vertex || b == x.vertex;
+        if (degree >= 4) return std::nullopt;
+    } else {
+        // On a street, well clear of its ends, and across it rather than along it.
+        const auto [a, b] = g.edges[hit_edge];
+        for (VertexId v : {a, b}) {
+            if ((g.positions[static_cast<std::size_t>(v)] - at).norm() < o.clearance_m) return std::nullopt;
+        }
+        const Vec2* points = g.geometry_begin(static_cast<EdgeId>(hit_edge));
+        for (std::size_t k = 0; k + 1 < g.geometry_size(static_cast<EdgeId>(hit_edge)); ++k) {
+            if (distance_to_segment(at, points[k], points[k + 1]) > 1e-6) continue;
+            const Vec2 along = (points[k + 1] - points[k]).normalized();
+            if (std::abs(along.dot(heading)) > std::cos(M_PI / 6)) return std::nullopt;
+            break;
+        }
+        x.split_edge = static_cast<long>(hit_edge);
+        x.where = at;
+    }
+    // The new street crosses nothing on its way.
+    bool blocked = false;
+    index.segments_near(p, target, [&](std::size_t e, std::size_t k) {
+        if (blocked) return;
+        const auto [a, b] = g.edges[e];
+        if (a == s || b == s || static_cast<long>(e) == x.split_edge || a == x.vertex || b == x.vertex) return;
+        const Vec2* points = g.geometry_begin(static_cast<EdgeId>(e));
+        if (segment_meeting(p, target, points[k], points[k + 1])) blocked = true;
+    });
+    if (blocked) return std::nullopt;
+    return x;
+}
+
 } // namespace
 
 HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, const HierarchyOptions& o) {
@@ -277,7 +352,32 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
         }
     }
     report.main_roads = roads.size();
-    if (roads.size() < 2) return report;
+    std::vector<char> used(roads.size(), 0);
+    if (roads.empty()) return report;
+    std::optional<StreetIndex> index; // built when first needed
+    // Main roads that end at the region and were joined to nothing: straight on to the first
+    // grown street ahead, a T-junction there (Parish and Mueller's local constraint), so that
+    // every main road the region cut goes on into what grew there.
+    auto extend_ends = [&] {
+        if (o.max_connector_m <= 0) return;
+        for (std::size_t s = 0; s < roads.size(); ++s) {
+            if (used[s] || roads[s].local >= 0 || roads[s].headings.size() != 1) continue;
+            if (!index) index.emplace(g, first);
+            const std::optional<Extension> plan = plan_extension(g, *index, first, roads[s].vertex, roads[s].headings.front(), o);
+            if (!plan) continue;
+            EdgeAttributes attributes;
+            attributes.highway = roads[s].highway;
+            const VertexId to = plan->split_edge >= 0 ? g.split_edge(static_cast<EdgeId>(plan->split_edge), plan->where) : plan->vertex;
+            g.add_edge(roads[s].vertex, to, attributes);
+            used[s] = 1;
+            ++report.extensions;
+            index->build();
+        }
+    };
+    if (roads.size() < 2) {
+        extend_ends();
+        return finished();
+    }
     std::stable_sort(roads.begin(), roads.end(), [](const MainRoad& x, const MainRoad& y) {
         if (highway_rank(x.highway) != highway_rank(y.highway)) return highway_rank(x.highway) < highway_rank(y.highway);
         return x.vertex < y.vertex;
@@ -297,7 +397,6 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
         return std::binary_search(joined.begin(), joined.end(), std::pair<VertexId, VertexId>{std::min(u, v), std::max(u, v)});
     };
 
-    std::vector<char> used(roads.size(), 0);
     const std::size_t n = global_of.size();
     std::vector<double> distance(n);
     std::vector<std::size_t> via(n);
@@ -370,7 +469,6 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
         }
         return false;
     };
-    std::optional<StreetIndex> index; // built when first needed
     for (std::size_t s = 0; s < roads.size(); ++s) {
         if (used[s]) continue;
         const Vec2 from = g.positions[static_cast<std::size_t>(roads[s].vertex)];
@@ -435,6 +533,7 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
             break;
         }
     }
+    extend_ends();
     return finished();
 }
 

@@ -157,6 +157,7 @@ struct GrowReport {
     std::size_t raised_streets = 0;     // grown streets on those routes, now of a main road's class
     std::size_t main_road_connectors = 0; // main roads joined by a straight new main road
     std::size_t intersections = 0;      // grown streets split where such a connector crosses
+    std::size_t main_road_extensions = 0; // main roads that ended at the region continued straight to a grown street
     bool grid = false;                 // the grammar's city is a grid: square rules kept to one
     bool filled = false;               // stopped because nothing more fits (or no frontier left)
     bool stopped_by_budget = false;    // stopped at max_placements or max_vertices

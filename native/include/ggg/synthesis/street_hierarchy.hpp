@@ -7,7 +7,9 @@
 // a primary road of the other across the seam of a stitch (paper Fig. 18), a secondary road
 // crosses a grown district instead of ending at it. Where the grown streets offer no such
 // route between two main roads that face each other, a straight main road joins them, and
-// each grown street it crosses gets an intersection there.
+// each grown street it crosses gets an intersection there. A main road that ends at the region
+// and is joined to none of them goes straight on to the first grown street ahead (within
+// max_connector_m), and meets it in a T-junction.
 #include <cstddef>
 #include <vector>
 
@@ -42,6 +44,7 @@ struct HierarchyReport {
     std::size_t connectors = 0;        // pairs joined by a straight new main road
     std::size_t connector_streets = 0; // its pieces between intersections
     std::size_t intersections = 0;     // grown streets it crossed, split where it crosses
+    std::size_t extensions = 0;        // main roads that ended at the region, joined to nothing, continued straight to a grown street
 };
 
 // Edges from `first_new_edge` on are the grown streets, the ones before are the streets they
