@@ -269,6 +269,8 @@ class ROADS_OT_grow_region(GrowSettings, ModalJobOperator, Operator):
         joined = report.get("main_road_routes", 0) + report.get("main_road_connectors", 0)
         if joined:
             parts.append("{} continued through the new streets".format(plural(joined, "main road")))
+        if report.get("main_road_extensions"):
+            parts.append("{} led on to the new streets".format(plural(report["main_road_extensions"], "main road")))
         if placed:
             parts.append("{} grown".format(plural(placed, "placed rule")))
         if report["stopped_by_budget"]:

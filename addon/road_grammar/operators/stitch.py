@@ -256,6 +256,8 @@ class ROADS_OT_stitch_cities(GrowSettings, ModalJobOperator, Operator):
             if hierarchy["intersections"]:
                 part += ", {}".format(plural(hierarchy["intersections"], "new intersection"))
             parts.append(part + ")")
+        if hierarchy.get("extensions"):
+            parts.append("{} led on to the new streets".format(plural(hierarchy["extensions"], "main road")))
         ends = []
         for name, report in zip((name_a, name_b), passes):
             if "share_of" in report:

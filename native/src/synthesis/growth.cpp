@@ -104,6 +104,8 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_t_junctions = traced.t_junctions;
         report.traced_dense = traced.dense;
         report.traced_across = traced.across;
+        street_density_ = traced.density;
+        density_radius_ = 2.0 * traced.typical_m;
         if (traced.streets > 0) reindex();
         if (g_.vertex_count() >= o_.max_vertices) report.stopped_by_budget = true;
     }

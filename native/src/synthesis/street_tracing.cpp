@@ -59,6 +59,8 @@ TracingReport Tracer::run() {
         trace(street);
     }
     join_close_ends();
+    report_.density = density_;
+    report_.typical_m = typical_;
     return report_;
 }
 

@@ -122,7 +122,7 @@ enum class PlacementOutcome : std::uint8_t {
     placed,
     outside,     // a new vertex would lie outside the region
     crossing,    // a new street would cross another
-    crowded,     // a new vertex would come too close to another
+    crowded,     // a new vertex would come too close to another, or the streets around be denser than the city's
     star,        // a junction of more than four streets
     small_block, // a new street would close a block smaller than the city's
     nothing_new, // every vertex landed on one already there
@@ -135,7 +135,7 @@ struct GrowReport {
     std::size_t attempts = 0;
     std::size_t rejected_outside = 0;  // a new vertex outside the region
     std::size_t rejected_crossing = 0; // a new street crossing another
-    std::size_t rejected_crowded = 0;  // a new vertex too close to another
+    std::size_t rejected_crowded = 0;  // a new vertex too close to another, or the streets around denser than the city's
     std::size_t rejected_off_grid = 0; // a square rule turned off the grid around
     std::size_t rejected_small_block = 0; // a new street closing a block smaller than the city's
     std::size_t rejected_star = 0;     // a junction of more than four streets
