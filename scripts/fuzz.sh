@@ -9,7 +9,7 @@
 #   --keep-going   fork mode: record crashes, timeouts and out-of-memory and go on
 #   --reseed       make the seed corpora again (they are made once, when absent)
 #   --no-build     use the harnesses already built
-#   HARNESS        osm geojson geojson_region grammar ggraph derive (default: all)
+#   HARNESS        osm geojson geojson_region grammar ggraph derive grow (default: all)
 #
 # Corpora grow in build-fuzz/corpus/<harness>/; crashes, timeouts and out-of-memory inputs are
 # written to build-fuzz/findings/<harness>/, the fuzzer's output to build-fuzz/findings/<harness>.log
@@ -19,7 +19,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${GGG_FUZZ_BUILD_DIR:-$root/build-fuzz}
-all=(osm geojson geojson_region grammar ggraph derive)
+all=(osm geojson geojson_region grammar ggraph derive grow)
 runs=-1
 seconds=
 keep_going=0
@@ -64,8 +64,8 @@ if [ "$reseed" = 1 ] || [ ! -d "$corpus" ]; then
   python3 "$root/scripts/fuzz_seeds.py" --cli "$build/bin/ggg" --out "$corpus"
 fi
 
-declare -A max_len=([osm]=131072 [geojson]=65536 [geojson_region]=65536 [grammar]=65536 [ggraph]=65536 [derive]=65536)
-declare -A dict=([osm]=osm.dict [geojson]=json.dict [geojson_region]=json.dict [grammar]=json.dict [ggraph]=json.dict [derive]=json.dict)
+declare -A max_len=([osm]=131072 [geojson]=65536 [geojson_region]=65536 [grammar]=65536 [ggraph]=65536 [derive]=65536 [grow]=1024)
+declare -A dict=([osm]=osm.dict [geojson]=json.dict [geojson_region]=json.dict [grammar]=json.dict [ggraph]=json.dict [derive]=json.dict [grow]=)
 findings=$build/findings
 mkdir -p "$findings"
 # Harnesses write the input to a temporary file for readers that take a path; one that
@@ -78,7 +78,8 @@ for h in "${harnesses[@]}"; do
   mkdir -p "$corpus/$h" "$findings/$h"
   log=$findings/$h.log
   options=(-rss_limit_mb=2048 -timeout=10 -max_len="${max_len[$h]}" -print_final_stats=1
-           -dict="$root/native/fuzz/${dict[$h]}" -artifact_prefix="$findings/$h/" -runs="$runs")
+           -artifact_prefix="$findings/$h/" -runs="$runs")
+  [ -n "${dict[$h]}" ] && options+=(-dict="$root/native/fuzz/${dict[$h]}")
   [ "$seconds" -gt 0 ] && options+=(-max_total_time="$seconds")
   [ "$keep_going" = 1 ] && options+=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1)
   echo "fuzz.sh: $h (log: $log)"

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Seed corpora for the libFuzzer harnesses (native/fuzz/, run by scripts/fuzz.sh).
 
-Writes OUT/<harness>/ for osm, geojson, geojson_region, grammar, ggraph and derive from:
+Writes OUT/<harness>/ for osm, geojson, geojson_region, grammar, ggraph and derive from the
+sources below, and random bytes for grow:
   - the OpenStreetMap extracts in SHARED (../shared/osm): small slices of the XML ones (a few
     consecutive highway ways with their nodes, a few kB each) in every format the OSM
     harness reads, plus the smallest whole PBFs; nothing from SHARED is kept anywhere else;
@@ -16,6 +17,7 @@ import gzip
 import io
 import json
 import os
+import random
 import shutil
 import subprocess
 import sys
@@ -229,6 +231,10 @@ def main():
             seeds.add("derive", f"grammar{i}.json", g)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+    # grow reads its base, region and options as numbers (FuzzedDataProvider): bytes will do.
+    rng = random.Random(7)
+    for i in range(16):
+        seeds.add("grow", f"random{i}.bin", bytes(rng.randrange(256) for _ in range(rng.randrange(64, 1024))))
     for h in sorted(seeds.count):
         print(f"fuzz_seeds: {h}: {seeds.count[h]} seeds")
 
