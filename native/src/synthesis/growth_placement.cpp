@@ -9,6 +9,7 @@
 
 #include "ggg/error.hpp"
 #include "ggg/grammar/rewriting.hpp"
+#include "street_tracing.hpp"
 
 namespace ggg::growth_detail {
 
@@ -256,13 +257,9 @@ bool Grower::place(const Prototype& p, const Frame& frame, const Vec2& origin, V
         for (std::size_t v : fresh) centre += local.positions[v];
         centre /= static_cast<double>(fresh.size());
         const double r = density_radius_;
-        auto within = [&](const Vec2& a, const Vec2& b) { return (0.5 * (a + b) - centre).norm() <= r ? (b - a).norm() : 0.0; };
         double length = 0.0;
-        for (const auto& [ia, ib] : added) length += within(local.positions[static_cast<std::size_t>(ia)], local.positions[static_cast<std::size_t>(ib)]);
-        for (auto it = segments_.qbegin(bgi::intersects(spatial::around(centre, r))); it != segments_.qend(); ++it) {
-            const Vec2* q = g_.geometry_begin(it->second);
-            for (std::size_t k = 0; k + 1 < g_.geometry_size(it->second); ++k) length += within(q[k], q[k + 1]);
-        }
+        for (const auto& [ia, ib] : added) length += piece_within(local.positions[static_cast<std::size_t>(ia)], local.positions[static_cast<std::size_t>(ib)], centre, r);
+        length += street_length_within(g_, segments_, centre, r);
         if (length > street_density_ * M_PI * r * r) return reject(PlacementOutcome::crowded);
     }
     // No new street may close a block smaller than the city's small ones (a rule placed

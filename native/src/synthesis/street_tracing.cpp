@@ -147,6 +147,15 @@ void Tracer::trace(const Street& s) {
 
 } // namespace tracing
 
+double street_length_within(const GeometricGraph& g, const spatial::RTree<spatial::EdgeEntry>& segments, const Vec2& centre, double r) {
+    double length = 0.0;
+    for (auto it = segments.qbegin(spatial::bgi::intersects(spatial::around(centre, r))); it != segments.qend(); ++it) {
+        const Vec2* q = g.geometry_begin(it->second);
+        for (std::size_t i = 0; i + 1 < g.geometry_size(it->second); ++i) length += piece_within(q[i], q[i + 1], centre, r);
+    }
+    return length;
+}
+
 TracingReport trace_streets(GeometricGraph& g, std::size_t base_vertices, const GeometricGraph& city,
                             const std::vector<Vec2>& region, const TracingSettings& settings, std::mt19937_64& rng,
                             const ProgressCallback& progress) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "ggg/graph/geometric_graph.hpp"
+#include "ggg/graph/spatial_index.hpp"
 #include "ggg/progress.hpp"
 
 namespace ggg::growth_detail {
@@ -44,6 +45,15 @@ struct TracingSettings {
     double usual_block_m2 = 0.0;
     double small_block_share = 0.0;
 };
+
+// How tracing, and the rules placed after it, hold the streets they add to the city's density
+// (TracingReport::density): the metres of street in a disc two typical streets across, counting
+// each straight piece whose middle lies in it. The piece ab:
+inline double piece_within(const Vec2& a, const Vec2& b, const Vec2& centre, double r) {
+    return (0.5 * (a + b) - centre).norm() <= r ? (b - a).norm() : 0.0;
+}
+// ... and the streets of `g` (found through `segments`, an index of its edges' boxes).
+double street_length_within(const GeometricGraph& g, const spatial::RTree<spatial::EdgeEntry>& segments, const Vec2& centre, double r);
 
 // Adds the traced streets to `g` (whose first `base_vertices` vertices are the base). `city`
 // is the example (the grammar's city); nothing is traced when it has no junctions to learn

@@ -29,15 +29,11 @@ bool Tracer::denser_than_city(const std::vector<Vec2>& line) const {
     if (density_ <= 0.0 || line.size() < 2) return false;
     // The disc around the line's far end, two typical streets across: small enough to be
     // local, large enough to hold a block or two.
-    const Vec2 centre = line.back();
     const double r = 2.0 * typical_;
-    auto within = [&](const Vec2& a, const Vec2& b) { return (0.5 * (a + b) - centre).norm() <= r ? (b - a).norm() : 0.0; };
+    const Vec2 centre = line.back();
     double length = 0.0;
-    for (std::size_t k = 0; k + 1 < line.size(); ++k) length += within(line[k], line[k + 1]);
-    for (auto it = segments_.qbegin(bgi::intersects(around(centre, r))); it != segments_.qend(); ++it) {
-        const Vec2* q = g_.geometry_begin(it->second);
-        for (std::size_t i = 0; i + 1 < g_.geometry_size(it->second); ++i) length += within(q[i], q[i + 1]);
-    }
+    for (std::size_t k = 0; k + 1 < line.size(); ++k) length += piece_within(line[k], line[k + 1], centre, r);
+    length += street_length_within(g_, segments_, centre, r);
     return length > density_ * M_PI * r * r;
 }
 
