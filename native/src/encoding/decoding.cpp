@@ -10,6 +10,12 @@
 
 namespace ggg {
 
+std::int64_t street_length_m(const GeometricGraph& g) {
+    double length = 0.0;
+    for (const auto& [a, b] : g.edges) length += (g.positions[static_cast<std::size_t>(a)] - g.positions[static_cast<std::size_t>(b)]).norm();
+    return std::isfinite(length) && length < 1e15 ? std::llround(length) : -1;
+}
+
 DeriveOptions decode_options(const Grammar& grammar) {
     DeriveOptions o;
     o.max_steps = grammar.encoding.levels;
@@ -74,6 +80,11 @@ GeometricGraph decode_grammar(const Grammar& grammar, DeriveReport* report_out, 
                            " vertices and " + std::to_string(g.edge_count()) + " edges instead of " + std::to_string(enc.decoded_vertices) +
                            " and " + std::to_string(enc.decoded_edges) + " (" + std::to_string(report.totals.missed_embeddings) +
                            " streets found no vertex to join; is the file damaged?)");
+    }
+    if (enc.decoded_length_m >= 0 && std::llabs(street_length_m(g) - enc.decoded_length_m) > 1) {
+        throw GrammarError("the grammar '" + grammar.name + "' does not decode to what it encodes: its streets are " +
+                           std::to_string(street_length_m(g)) + " m long instead of " + std::to_string(enc.decoded_length_m) +
+                           " m (is the file damaged?)");
     }
     g.instances.clear();
     if (report_out) *report_out = std::move(report);

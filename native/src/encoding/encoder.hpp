@@ -129,6 +129,7 @@ private:
     // inside edges they no longer store, less each instance's frame, residuals (lossless)
     // and the extra bytes of its embedding, less the rule itself.
     double packed_gain(const Isogroup& group, const std::vector<std::vector<VertexId>>& occs, const std::vector<Similarity2>& fits,
+                       const std::vector<Frame>& transforms,
                        const Adjacency& adj) const;
 
     // The largest distance from a street vertex of the occurrence (labelled as the pattern)
@@ -203,7 +204,13 @@ private:
     std::vector<Vec2> decoded_;             // per input vertex: where the derivation puts it
     std::vector<char> placed_;
     std::vector<Similarity2> effective_;    // per instance: the frame its rule is placed in
-    std::vector<std::vector<Vec2>> step_nonterminals_; // per derivation step (0 = the axiom): the nonterminals it places
+    // Per derivation step (0 = the axiom): the nonterminals it places, where, and by which
+    // instance (-1: the axiom).
+    struct PlacedNonterminal {
+        Vec2 position;
+        std::int32_t instance;
+    };
+    std::vector<std::vector<PlacedNonterminal>> step_nonterminals_;
 };
 
 } // namespace ggg::encoding_detail

@@ -153,7 +153,7 @@ void Encoder::simulate(Grammar& grammar) {
     const DeriveOptions derive_options = decode_options(grammar);
     step_nonterminals_.assign(1, {});
     for (std::size_t v = 0; v < g.vertex_count(); ++v) {
-        if (g.symbols[v]) step_nonterminals_[0].push_back(g.positions[v]);
+        if (g.symbols[v]) step_nonterminals_[0].push_back({g.positions[v], -1});
     }
     for (int step = 0; step < enc.levels; ++step) {
         for (std::size_t q = 0; q < g.vertex_count(); ++q) {
@@ -181,7 +181,7 @@ void Encoder::simulate(Grammar& grammar) {
         for (std::size_t v = 0; v < placed.size(); ++v) {
             const Placement& p = placed[v];
             if (p.instance < 0) continue;
-            if (g.symbols[v]) step_nonterminals_.back().push_back(g.positions[v]);
+            if (g.symbols[v]) step_nonterminals_.back().push_back({g.positions[v], p.instance});
             const Node& n = instances_[static_cast<std::size_t>(p.instance)].members[static_cast<std::size_t>(p.rule_vertex)];
             if (n.nonterminal) continue;
             decoded_[static_cast<std::size_t>(n.id)] = g.positions[v];
@@ -246,25 +246,77 @@ void Encoder::embed(Grammar& grammar) {
             rule_points[r].emplace_back(l.vertex, ep);
         }
     }
-    // How far apart things are around each place when an instance's embedding is
-    // resolved, in the step that rewrites it: the streets placed by then (counted all,
-    // which only errs on the safe side) and the nonterminals that step places.
+    // What is present around each place when an instance's embedding is resolved, in the
+    // step that rewrites it: the streets placed by then and the nonterminals that step places.
     namespace bg = spatial::bg;
     namespace bgi = spatial::bgi;
-    using Tree = spatial::RTree<spatial::Point>;
-    auto tree_of = [](const std::vector<Vec2>& positions) {
-        std::vector<spatial::Point> points;
-        points.reserve(positions.size());
-        for (const Vec2& p : positions) points.push_back(spatial::point(p));
-        return Tree(points.begin(), points.end());
-    };
-    const Tree streets = tree_of(decoded_);
+    using Entry = std::pair<spatial::Point, std::uint32_t>;
+    using Tree = spatial::RTree<Entry>;
+    std::vector<Entry> street_entries;
+    for (std::size_t v = 0; v < decoded_.size(); ++v) street_entries.emplace_back(spatial::point(decoded_[v]), static_cast<std::uint32_t>(v));
+    const Tree streets(street_entries.begin(), street_entries.end());
     std::vector<Tree> nonterminals;
-    for (const auto& positions : step_nonterminals_) nonterminals.push_back(tree_of(positions));
+    for (const auto& placed : step_nonterminals_) {
+        std::vector<Entry> entries;
+        for (std::size_t k = 0; k < placed.size(); ++k) entries.emplace_back(spatial::point(placed[k].position), static_cast<std::uint32_t>(k));
+        nonterminals.emplace_back(entries.begin(), entries.end());
+    }
+    // A link names its partner by rank (RuleInstance::neighbours) only where decoding sees
+    // the same vertices as this derivation: every input vertex placed (so always, as the
+    // vertices of instances never merge).
+    const bool ranks = std::all_of(placed_.begin(), placed_.end(), [](char p) { return p != 0; });
+    // The rank of y among the vertices nearest to x when instance i's embedding is resolved,
+    // its own left out; none where another vertex is about as near as y (ties must not
+    // decide) or y is not among the nearest few hundred (an offset is then as short).
+    constexpr std::size_t max_rank = 255;
+    auto rank_of = [&](std::size_t i, VertexId x, VertexId y) -> std::optional<std::int32_t> {
+        const Vec2 p = decoded_[static_cast<std::size_t>(x)];
+        const double dy = (decoded_[static_cast<std::size_t>(y)] - p).squaredNorm();
+        const double margin = 1e-9 * dy + 1e-18;
+        const int step = depth[i];
+        const auto inst = static_cast<std::int32_t>(i);
+        const unsigned k = static_cast<unsigned>(max_rank + 2);
+        std::size_t nearer = 0, alike = 0;
+        auto count = [&](const Vec2& q) {
+            const double d = (q - p).squaredNorm();
+            if (d < dy - margin) ++nearer;
+            else if (d <= dy + margin) ++alike;
+        };
+        bool reached = false; // y itself among the nearest k
+        const auto present = [&](const Entry& e) {
+            const auto v = static_cast<VertexId>(e.second);
+            return step_of(v) <= step && placer_[e.second] != inst;
+        };
+        double farthest = 0.0;
+        std::size_t found = 0;
+        for (auto it = streets.qbegin(bgi::nearest(spatial::point(p), k) && bgi::satisfies(present)); it != streets.qend(); ++it) {
+            ++found;
+            const Vec2& q = decoded_[it->second];
+            farthest = std::max(farthest, (q - p).squaredNorm());
+            if (static_cast<VertexId>(it->second) == y) {
+                reached = true;
+                continue;
+            }
+            count(q);
+        }
+        if (!reached) return std::nullopt;
+        if (found == k && farthest <= dy + margin) return std::nullopt; // more may lie as near beyond the k
+        const auto s = static_cast<std::size_t>(step + 1);
+        if (s < nonterminals.size()) {
+            const auto& placed = step_nonterminals_[s];
+            const auto others = [&](const Entry& e) { return placed[e.second].instance != inst; };
+            for (auto it = nonterminals[s].qbegin(bgi::intersects(spatial::around(p, std::sqrt(dy + margin) * (1 + 1e-12))) && bgi::satisfies(others));
+                 it != nonterminals[s].qend(); ++it) {
+                count(placed[it->second].position);
+            }
+        }
+        if (alike || nearer > max_rank) return std::nullopt;
+        return static_cast<std::int32_t>(nearer);
+    };
     const double same_place = 0.1 * options_.quantum_m; // only the vertex itself is nearer
     auto nearest_other = [&](const Tree& tree, const Vec2& p) {
         for (auto it = tree.qbegin(bgi::nearest(spatial::point(p), 2)); it != tree.qend(); ++it) {
-            const double d = std::hypot(bg::get<0>(*it) - p.x(), bg::get<1>(*it) - p.y());
+            const double d = std::hypot(bg::get<0>(it->first) - p.x(), bg::get<1>(it->first) - p.y());
             if (d > same_place) return d; // nearest first; a nearer one is the vertex itself
         }
         return std::numeric_limits<double>::infinity();
@@ -276,11 +328,18 @@ void Encoder::embed(Grammar& grammar) {
     };
     for (std::size_t i = 0; i < raw.size(); ++i) {
         RuleInstance& ri = enc.instances[i];
+        std::vector<RawLink> aimed; // the links that need an offset
+        for (const RawLink& l : raw[i]) {
+            const std::optional<std::int32_t> rank = ranks ? rank_of(i, l.x, l.y) : std::nullopt;
+            if (rank) ri.neighbours.push_back({l.vertex, *rank, l.highway});
+            else aimed.push_back(l);
+        }
+        if (aimed.empty()) continue;
         // Half the room around the instance's partners: an embedding point that lands
         // within half the tolerance of its partner has no other vertex nearer (the
         // instance's own vertices never merge, see derive_step).
         double r = std::numeric_limits<double>::infinity();
-        for (const RawLink& l : raw[i]) r = std::min(r, room(decoded_[static_cast<std::size_t>(l.y)], depth[i] + 1));
+        for (const RawLink& l : aimed) r = std::min(r, room(decoded_[static_cast<std::size_t>(l.y)], depth[i] + 1));
         const double half = 0.5 * r;
         double tolerance = enc.tolerance_m;
         if (std::isfinite(half) && half > enc.tolerance_m) {
@@ -291,7 +350,7 @@ void Encoder::embed(Grammar& grammar) {
         const Similarity2& f = effective_[i];
         const auto& shared = rule_points[ri.symbol - 1];
         std::vector<char> taken(shared.size(), 0);
-        for (const RawLink& l : raw[i]) {
+        for (const RawLink& l : aimed) {
             const Vec2 partner = decoded_[static_cast<std::size_t>(l.y)];
             bool reused = false;
             for (std::size_t p = 0; p < shared.size() && !reused; ++p) {
@@ -324,6 +383,7 @@ void Encoder::check_roundtrip() {
     const GeometricGraph decoded = decode_grammar(grammar, &report);
     result_.grammar.encoding.decoded_vertices = static_cast<std::int64_t>(decoded.vertex_count());
     result_.grammar.encoding.decoded_edges = static_cast<std::int64_t>(decoded.edge_count());
+    result_.grammar.encoding.decoded_length_m = street_length_m(decoded);
     std::vector<std::int32_t> original(decoded.vertex_count(), -1);
     std::vector<std::int32_t> axiom_vertex(grammar.axiom_vertices.size(), -1);
     for (std::size_t v = 0; v < input_.vertex_count(); ++v) {

@@ -131,7 +131,7 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
     consistent_frames(group, occs, fits, transforms);
     lr.frame_rejected += before - occs.size();
     if (occs.size() < min_count) return;
-    const double gain = packed_gain(group, occs, fits, adj);
+    const double gain = packed_gain(group, occs, fits, transforms, adj);
     if (take == Take::paying && gain <= 0) return;
 
     const int rep = representative_vertex(graph_, adj, occs);
@@ -203,17 +203,17 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
 }
 
 double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector<VertexId>>& occs, const std::vector<Similarity2>& fits,
-                            const Adjacency& adj) const {
+                            const std::vector<Frame>& transforms, const Adjacency& adj) const {
     const Pattern& pattern = group.pattern;
     const std::size_t k = pattern.positions.size();
     // An instance at the top: its nonterminal's position and symbol, its frame (scale and
-    // rotation), correction, shift, tolerance and its count of links (rule points and class
-    // changes are stored only where an instance has them). Version 4 stores the axiom's
-    // nonterminals in runs, without an index each; pricing them a byte less measured no
-    // smaller on the corpus (docs/learning.md#size), so the byte stays as slack.
-    const double instance_bytes = vertex_bytes_ + 15.0;
-    // A link (rule vertex and class in one number, aim) where the graph has an edge.
-    const double link_bytes = 5.0;
+    // rotation), correction, shift and its count of links (rule points, class changes,
+    // offsets and tolerances of its own are stored only where an instance has them). The
+    // axiom's nonterminals are stored in runs, without an index each; pricing them a byte
+    // less measured no smaller on the corpus (docs/learning.md#size), so the byte stays as slack.
+    const double instance_bytes = vertex_bytes_ + 14.0;
+    // A link (rule vertex and class in one number, the partner's rank) where the graph has an edge.
+    const double link_bytes = 2.0;
     const double inverse = inverse_of(options_.quantum_m);
     std::size_t street_edges = 0;
     for (const auto& [a, b] : pattern.edges) street_edges += !pattern.symbols[static_cast<std::size_t>(a)] && !pattern.symbols[static_cast<std::size_t>(b)];
@@ -225,11 +225,19 @@ double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector
         for (std::size_t j = 0; j < k; ++j) {
             const auto v = static_cast<std::size_t>(occ[j]);
             degrees += adj.degree(occ[j]);
-            if (pattern.symbols[j]) {
-                saved += vertex_bytes_ + 3.0; // its position and frame, now a correction and a shift
-                continue;
-            }
             saved += vertex_bytes_;
+            if (pattern.symbols[j]) {
+                // Its frame and symbol in the graph of this pass become the correction and the
+                // shift of its instance, from the frame the rule's T_j gives it: a row of equal
+                // blocks needs next to none, an irregular district as many bytes as it saves.
+                const Similarity2& frame = graph_.frames[v];
+                saved += cbor_bytes(std::llround(frame.scale() * 1e3)) + cbor_bytes(std::llround(frame.angle() * 180.0 / M_PI * 100.0)) + 1.0;
+                const Complex correction = linear(frame) / (linear(fits[c]) * std::polar(transforms[j].scale, transforms[j].rotation_deg * M_PI / 180.0));
+                saved -= cbor_bytes(std::llround((std::abs(correction) - 1.0) * 1e6)) + cbor_bytes(std::llround(std::arg(correction) * 180.0 / M_PI * 1e4));
+                const Vec2 placed = options_.lossless ? graph_.positions[v] : fits[c].apply(pattern.positions[j]);
+                const Vec2 shift = (frame.t - placed) * inverse;
+                saved -= cbor_bytes(std::llround(shift.x())) + cbor_bytes(std::llround(shift.y()));
+            }
             if (options_.lossless && strict_gain_) {
                 const Vec2 r = (graph_.positions[v] - fits[c].apply(pattern.positions[j])) * inverse;
                 saved -= cbor_bytes(std::llround(r.x())) + cbor_bytes(std::llround(r.y()));
@@ -239,9 +247,13 @@ double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector
         saved -= 0.5 * outside * (link_bytes - edge_bytes_); // each outside edge is stored by one of its two ends
         gain += saved;
     }
-    // The rule: per vertex its position, symbol and count of points; per edge its ends and
-    // class; its counts and size; the points of its best-joined instance.
-    const double rule_bytes = 8.0 * static_cast<double>(k) + 3.0 * static_cast<double>(pattern.edges.size()) + 4.0 + 7.0 * 2.0;
+    // The rule: per vertex its position, symbol, count of points and the points of its
+    // best-joined instance (13 bytes in all, measured on Columbus), per nonterminal vertex its
+    // T_j; per edge its ends and class; its counts, size, uses and name.
+    std::size_t nonterminals = 0;
+    for (const Symbol s : pattern.symbols) nonterminals += s != 0;
+    const double rule_bytes = 13.0 * static_cast<double>(k) + 6.0 * static_cast<double>(nonterminals) +
+                              3.0 * static_cast<double>(pattern.edges.size()) + 20.0;
     return gain - (strict_gain_ ? rule_bytes : 0.0);
 }
 

@@ -129,6 +129,10 @@ void validate_encoding(const Grammar& g) {
             if (link.vertex < 0 || static_cast<std::size_t>(link.vertex) >= size) fail(where + ".embedding", "rule vertex out of range");
             check_finite(link.point.offset, where + ".embedding");
         }
+        for (const RuleInstance::Neighbour& link : inst.neighbours) {
+            if (link.vertex < 0 || static_cast<std::size_t>(link.vertex) >= size) fail(where + ".neighbours", "rule vertex out of range");
+            if (link.rank < 0) fail(where + ".neighbours", "a rank is >= 0");
+        }
         for (const auto& [edge, highway] : inst.edge_classes) {
             if (edge < 0 || static_cast<std::size_t>(edge) >= rule->edges.size()) fail(where + ".edge_classes", "rule edge out of range");
         }

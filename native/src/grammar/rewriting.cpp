@@ -84,6 +84,24 @@ public:
         return best;
     }
 
+    // The `rank`-th nearest vertex to p (from 0) among those that pass `accept`, or -1; at
+    // most `skipped` vertices fail `accept`. Nearness is the squared distance, as the learner
+    // measures it when it names a rank (grammar_assembly.cpp), which it does only where no
+    // other vertex is as near as the partner: ties never decide.
+    template <typename Accept>
+    VertexId ranked(const Vec2& p, std::size_t rank, std::size_t skipped, Accept accept) const {
+        const std::size_t k = std::min(rank + skipped + 2, next_.vertex_count());
+        std::vector<std::pair<double, VertexId>> found;
+        found.reserve(k);
+        for (auto it = tree_.qbegin(bgi::nearest(spatial::point(p), static_cast<unsigned>(k))); it != tree_.qend(); ++it) {
+            const VertexId v = it->second;
+            if (accept(v)) found.emplace_back((next_.positions[static_cast<std::size_t>(v)] - p).squaredNorm(), v);
+        }
+        if (found.size() <= rank) return -1;
+        std::nth_element(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(rank), found.end());
+        return found[rank].second;
+    }
+
     // Places a vertex, merging it into one within `tolerance` when that is the same place:
     // one vertex per place. A nonterminal that lands on another with a different rewrite
     // becomes one more rewrite pending there. Vertices of learned instances never merge with
@@ -369,6 +387,18 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
                 }
             }
             for (const RuleInstance::Link& link : w.instance->embedding) connect(static_cast<std::size_t>(link.vertex), link.point);
+            for (const RuleInstance::Neighbour& link : w.instance->neighbours) {
+                const auto i = static_cast<std::size_t>(link.vertex);
+                const VertexId partner = builder.ranked(w.positions[i], static_cast<std::size_t>(link.rank), own.size(),
+                                                        [&](VertexId v) { return std::find(own.begin(), own.end(), v) == own.end(); });
+                if (partner < 0) {
+                    ++report.missed_embeddings;
+                    continue;
+                }
+                EdgeAttributes a;
+                a.highway = link.highway;
+                report.embedding_edges += builder.add_edge(own[i], partner, a);
+            }
         } else {
             for (std::size_t i = 0; i < w.rule->vertices.size(); ++i) {
                 for (const EmbeddingPoint& ep : w.rule->vertices[i].embedding) connect(i, ep);

@@ -37,7 +37,8 @@ json edges_json(const std::vector<GrammarEdge>& edges) {
 json encoding_json(const Encoding& enc) {
     json symbol = json::array(), scale = json::array(), rotation = json::array(), shift = json::array(), residuals = json::array(),
          children = json::array(), embedding = json::array(), classes = json::array(), rule_points = json::array(),
-         tolerance = json::array();
+         tolerance = json::array(), neighbours = json::array();
+    bool any_neighbour = false;
     for (const RuleInstance& inst : enc.instances) {
         symbol.push_back(inst.symbol);
         scale.push_back(inst.correction.scale);
@@ -61,6 +62,10 @@ json encoding_json(const Encoding& enc) {
             links.push_back(static_cast<int>(l.point.highway));
         }
         embedding.push_back(std::move(links));
+        json ranked = json::array();
+        for (const RuleInstance::Neighbour& l : inst.neighbours) ranked.insert(ranked.end(), {l.vertex, l.rank, static_cast<int>(l.highway)});
+        any_neighbour |= !inst.neighbours.empty();
+        neighbours.push_back(std::move(ranked));
         json ec = json::array();
         for (const auto& [edge, highway] : inst.edge_classes) {
             ec.push_back(edge);
@@ -87,7 +92,9 @@ json encoding_json(const Encoding& enc) {
               {"rule_points", std::move(rule_points)},
               {"embedding", std::move(embedding)},
               {"edge_classes", std::move(classes)}}}};
+    if (any_neighbour) out["instances"]["neighbours"] = std::move(neighbours);
     if (enc.decoded_vertices >= 0) out["decodes_to"] = {{"vertices", enc.decoded_vertices}, {"edges", enc.decoded_edges}};
+    if (enc.decoded_vertices >= 0 && enc.decoded_length_m >= 0) out["decodes_to"]["length_m"] = enc.decoded_length_m;
     return out;
 }
 
@@ -213,6 +220,7 @@ Encoding read_encoding(const Reader& r, const json& doc, std::size_t symbol_coun
     if (const json* d = r.optional(doc, "decodes_to")) {
         enc.decoded_vertices = r.integer(r.member(*d, "vertices", "encoding.decodes_to"), "encoding.decodes_to.vertices", 0, INT32_MAX);
         enc.decoded_edges = r.integer(r.member(*d, "edges", "encoding.decodes_to"), "encoding.decodes_to.edges", 0, INT32_MAX);
+        if (const json* m = r.optional(*d, "length_m")) enc.decoded_length_m = r.integer(*m, "encoding.decodes_to.length_m", 0, INT64_MAX / 8);
     }
     const int class_max = highway_class_count - 1;
     auto integers = [&](const json& v, const std::string& where, std::int64_t lo, std::int64_t hi) {
@@ -238,6 +246,7 @@ Encoding read_encoding(const Reader& r, const json& doc, std::size_t symbol_coun
     const json& rule_points = column("rule_points");
     const json& tolerance = column("tolerance_m");
     const json& classes = column("edge_classes");
+    const json* neighbours = inst.contains("neighbours") ? &column("neighbours") : nullptr; // absent: none
     enc.instances.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
         const std::string at = "[" + std::to_string(k) + "]";
@@ -264,6 +273,18 @@ Encoding read_encoding(const Reader& r, const json& doc, std::size_t symbol_coun
             link.point.offset = {r.number(links[i + 1], where), r.number(links[i + 2], where)};
             link.point.highway = static_cast<HighwayClass>(r.integer(links[i + 3], where, 0, class_max));
             ri.embedding.push_back(link);
+        }
+        if (neighbours) {
+            const std::string where = "encoding.instances.neighbours" + at;
+            const json& ranked = r.array((*neighbours)[k], where);
+            if (ranked.size() % 3) r.fail(where, "must hold (vertex, rank, class) triples");
+            for (std::size_t i = 0; i < ranked.size(); i += 3) {
+                RuleInstance::Neighbour link;
+                link.vertex = static_cast<std::int32_t>(r.integer(ranked[i], where, 0, INT32_MAX));
+                link.rank = static_cast<std::int32_t>(r.integer(ranked[i + 1], where, 0, INT32_MAX));
+                link.highway = static_cast<HighwayClass>(r.integer(ranked[i + 2], where, 0, class_max));
+                ri.neighbours.push_back(link);
+            }
         }
         const json& ec = r.array(classes[k], "encoding.instances.edge_classes" + at);
         if (ec.size() % 2) r.fail("encoding.instances.edge_classes" + at, "must hold (edge, class) pairs");

@@ -118,7 +118,8 @@ public:
             if (g_.rules[k].uses > static_cast<std::uint64_t>(INT64_MAX / 4)) return std::nullopt;
         }
         // Both counts or neither (the packed form stores them as a pair).
-        if ((enc.decoded_vertices >= 0) != (enc.decoded_edges >= 0) || enc.decoded_vertices > INT32_MAX || enc.decoded_edges > INT32_MAX) {
+        if ((enc.decoded_vertices >= 0) != (enc.decoded_edges >= 0) || enc.decoded_vertices > INT32_MAX || enc.decoded_edges > INT32_MAX ||
+            (enc.decoded_length_m >= 0 && enc.decoded_vertices < 0) || enc.decoded_length_m > INT64_MAX / 8) {
             return std::nullopt;
         }
         quantum_ = std::pow(10.0, std::round(-std::log10(enc.quantum_m)));
@@ -132,6 +133,7 @@ public:
         encoding["tolerance_m"] = enc.tolerance_m;
         encoding["quantum_m"] = enc.quantum_m;
         if (enc.decoded_vertices >= 0) encoding["decodes_to"] = {enc.decoded_vertices, enc.decoded_edges};
+        if (enc.decoded_vertices >= 0 && enc.decoded_length_m >= 0) encoding["decodes_to"].push_back(enc.decoded_length_m);
         // An empty column is left out: the reader takes a missing one as empty.
         for (json* section : {&rules, &axiom, &encoding}) {
             for (auto it = section->begin(); it != section->end();) {
@@ -287,7 +289,8 @@ private:
         if (!derivation_order(order)) return false;
         const bool lossless = enc.mode == "lossless";
         json correction = json::array(), shift = json::array(), residuals = json::array(), tolerance = json::array(),
-             rule_points = json::array(), embedding = json::array(), classes = json::array(), link_classes = json::array();
+             rule_points = json::array(), embedding = json::array(), classes = json::array(), link_classes = json::array(),
+             neighbours = json::array();
         std::size_t axiom_nonterminals = 0;
         for (const AxiomVertex& v : g_.axiom_vertices) axiom_nonterminals += v.symbol != 0;
         // The links' classes, most common first: a link stores its rule vertex and its class's
@@ -298,13 +301,18 @@ private:
                 if (static_cast<std::size_t>(l.point.highway) >= highway_class_count) return false;
                 ++class_uses[static_cast<std::size_t>(l.point.highway)];
             }
+            for (const RuleInstance::Neighbour& l : inst.neighbours) {
+                if (static_cast<std::size_t>(l.highway) >= highway_class_count || l.rank < 0) return false;
+                ++class_uses[static_cast<std::size_t>(l.highway)];
+            }
         }
         const ByUse classes_by_use = by_use(class_uses);
         link_classes = classes_by_use.order;
         const std::vector<std::int64_t>& rank = classes_by_use.rank;
-        // Rule points and class changes are rare: stored only for the instances that have
-        // them, each as (step from the previous such instance, count, entries).
-        std::size_t last_points = 0, last_classes = 0;
+        // Rule points, class changes, offsets and tolerances of their own are rare: stored only
+        // for the instances that have them, each as (step from the previous such instance,
+        // count, entries) or, for the tolerance, (step, code).
+        std::size_t last_points = 0, last_classes = 0, last_links = 0, last_tolerance = 0;
         for (std::size_t n = 0; n < order.size(); ++n) {
             const RuleInstance& inst = enc.instances[static_cast<std::size_t>(order[n])];
             if (n < axiom_nonterminals) {
@@ -321,12 +329,18 @@ private:
             }
             const auto code = tolerance_code(inst.tolerance_m);
             if (!code) return false;
-            tolerance.push_back(*code);
+            if (*code != 0) {
+                tolerance.insert(tolerance.end(), {n - last_tolerance, *code});
+                last_tolerance = n;
+            }
             const Rule& rule = *g_.rule_for(inst.symbol);
             for (const std::int32_t p : inst.rule_points) {
                 if (p < 0) return false;
             }
             for (const RuleInstance::Link& l : inst.embedding) {
+                if (l.vertex < 0 || static_cast<std::size_t>(l.vertex) >= rule.vertices.size()) return false;
+            }
+            for (const RuleInstance::Neighbour& l : inst.neighbours) {
                 if (l.vertex < 0 || static_cast<std::size_t>(l.vertex) >= rule.vertices.size()) return false;
             }
             for (const auto& [edge, highway] : inst.edge_classes) {
@@ -337,8 +351,17 @@ private:
                 for (const std::int32_t p : inst.rule_points) rule_points.push_back(p);
                 last_points = n;
             }
-            embedding.push_back(inst.embedding.size());
-            if (!inst.embedding.empty() && !pack_links(inst.embedding, rule.vertices.size(), rank, embedding)) return false;
+            if (!inst.embedding.empty()) {
+                embedding.insert(embedding.end(), {n - last_links, inst.embedding.size()});
+                if (!pack_links(inst.embedding, rule.vertices.size(), rank, embedding)) return false;
+                last_links = n;
+            }
+            // Every instance: its links by rank, as (code, rank) pairs after their count.
+            neighbours.push_back(inst.neighbours.size());
+            for (const RuleInstance::Neighbour& l : inst.neighbours) {
+                neighbours.insert(neighbours.end(), {static_cast<std::int64_t>(l.vertex) + static_cast<std::int64_t>(rule.vertices.size()) * rank[static_cast<std::size_t>(l.highway)],
+                                                     static_cast<std::int64_t>(l.rank)});
+            }
             if (!inst.edge_classes.empty()) {
                 classes.insert(classes.end(), {n - last_classes, inst.edge_classes.size()});
                 for (const auto& [edge, highway] : inst.edge_classes) classes.insert(classes.end(), {edge, static_cast<int>(highway)});
@@ -347,7 +370,7 @@ private:
         }
         out = {{"correction", std::move(correction)}, {"shift", std::move(shift)}, {"residuals", std::move(residuals)},
                {"tolerance", std::move(tolerance)}, {"rule_points", std::move(rule_points)}, {"embedding", std::move(embedding)},
-               {"link_classes", std::move(link_classes)}, {"edge_classes", std::move(classes)}};
+               {"link_classes", std::move(link_classes)}, {"edge_classes", std::move(classes)}, {"neighbours", std::move(neighbours)}};
         return true;
     }
 
@@ -504,9 +527,14 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     if (!(enc.quantum_m >= 1e-9 && enc.quantum_m <= 1e-2)) r.fail("encoding.quantum_m", "must lie between 1e-9 and 1e-2");
     const double quantum = std::pow(10.0, std::round(-std::log10(enc.quantum_m)));
     if (const json* d = r.optional(enc_doc, "decodes_to")) {
-        r.array(*d, "encoding.decodes_to", 2);
-        enc.decoded_vertices = r.integer((*d)[0], "encoding.decodes_to[0]", 0, INT32_MAX);
-        enc.decoded_edges = r.integer((*d)[1], "encoding.decodes_to[1]", 0, INT32_MAX);
+        // [vertices, edges], and in version 5 the length of the streets in metres.
+        const json& counts = r.array(*d, "encoding.decodes_to");
+        if (counts.size() != 2 && !(counts.size() == 3 && doc.at("version").get<std::int64_t>() >= 5)) {
+            r.fail("encoding.decodes_to", doc.at("version").get<std::int64_t>() >= 5 ? "must be [vertices, edges] or [vertices, edges, metres]" : "must be [vertices, edges]");
+        }
+        enc.decoded_vertices = r.integer(counts[0], "encoding.decodes_to[0]", 0, INT32_MAX);
+        enc.decoded_edges = r.integer(counts[1], "encoding.decodes_to[1]", 0, INT32_MAX);
+        if (counts.size() == 3) enc.decoded_length_m = r.integer(counts[2], "encoding.decodes_to[2]", 0, INT64_MAX / 8);
     }
 
     // Rules.
@@ -634,10 +662,30 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
 
     // Instances, in derivation order (see Packer::derivation_order).
     const bool lossless = enc.mode == "lossless";
-    Cursor tolerance = column(enc_doc, "tolerance", "encoding", JsonReader<GrammarError>::any_size); // one per instance
-    const std::size_t instance_count = tolerance.values.size();
+    // Version 5 stores every instance's links by rank (neighbours, at least a count each) and
+    // only the tolerances that are not 0; before, one tolerance per instance.
+    const bool ranked_links = version >= 5;
+    Cursor tolerance = column(enc_doc, "tolerance", "encoding", JsonReader<GrammarError>::any_size);
+    Cursor neighbours = column(enc_doc, "neighbours", "encoding", JsonReader<GrammarError>::any_size);
+    if (!ranked_links && !neighbours.values.empty()) r.fail("encoding.neighbours", "is not part of version " + std::to_string(version));
     std::size_t axiom_nonterminals = 0;
     for (const AxiomVertex& v : g.axiom_vertices) axiom_nonterminals += v.symbol != 0;
+    std::size_t instance_count = tolerance.values.size();
+    if (ranked_links) {
+        // As many instances as the derivation meets nonterminals; each takes one entry of
+        // neighbours at least, which bounds a rule that places its own symbol.
+        std::vector<Symbol> met;
+        for (const AxiomVertex& v : g.axiom_vertices) {
+            if (v.symbol) met.push_back(v.symbol);
+        }
+        for (std::size_t k = 0; k < met.size() && met.size() <= neighbours.values.size(); ++k) {
+            for (const RuleVertex& v : g.rules[met[k] - 1].vertices) {
+                if (v.symbol) met.push_back(v.symbol);
+            }
+        }
+        if (met.size() > neighbours.values.size()) r.fail("encoding.neighbours", "ends early (" + std::to_string(neighbours.values.size()) + " entries)");
+        instance_count = met.size();
+    }
     if (axiom_nonterminals > instance_count) r.fail("encoding.tolerance", "needs one entry per instance (" + std::to_string(axiom_nonterminals) + " nonterminals in the axiom)");
     // Corrections and shifts of the instances below the axiom's (those take its frames).
     Cursor correction = column(enc_doc, "correction", "encoding", 2 * (instance_count - axiom_nonterminals));
@@ -654,6 +702,8 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     std::vector<HighwayClass> link_class;
     for (std::size_t c = 0; c < link_classes.values.size(); ++c) link_class.push_back(static_cast<HighwayClass>(link_classes.take(0, class_max)));
     Groups point_groups(rule_points, sparse), class_groups(classes, sparse);
+    Groups link_groups(links, ranked_links); // version 5: own offsets only for the instances that have some
+    std::int64_t tolerance_at = ranked_links && !tolerance.values.empty() ? tolerance.take(0, INT32_MAX) : -1;
     enc.instances.resize(instance_count);
     std::size_t next_id = 0;
     auto claim = [&](Symbol s, const std::string& where) {
@@ -682,14 +732,21 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
                 inst.residuals.emplace_back(rx, from_steps(residuals.take(), quantum));
             }
         }
-        const auto tolerance_m = tolerance_of_code(tolerance.take());
+        std::int64_t stored_tolerance = 0;
+        if (!ranked_links) {
+            stored_tolerance = tolerance.take();
+        } else if (tolerance_at == static_cast<std::int64_t>(k)) {
+            stored_tolerance = tolerance.take();
+            tolerance_at = tolerance.next < tolerance.values.size() ? tolerance_at + tolerance.take(1, INT32_MAX) : -1;
+        }
+        const auto tolerance_m = tolerance_of_code(stored_tolerance);
         if (!tolerance_m) r.fail(where + ".tolerance", "not a tolerance code");
         inst.tolerance_m = *tolerance_m;
         const auto instance = static_cast<std::int64_t>(k);
         const auto point_count = point_groups.count(instance);
         for (std::int64_t j = 0; j < point_count; ++j) inst.rule_points.push_back(static_cast<std::int32_t>(rule_points.take(0, INT32_MAX)));
         point_groups.done(instance);
-        const auto link_count = links.take(0, INT32_MAX);
+        const auto link_count = ranked_links ? link_groups.count(instance) : links.take(0, INT32_MAX);
         if (link_count) {
             const double inverse = std::pow(10.0, static_cast<double>(links.take(-6, 12)));
             const auto k_vertices = static_cast<std::int64_t>(rule.vertices.size());
@@ -709,6 +766,20 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
                 inst.embedding.push_back(l);
             }
         }
+        if (ranked_links) {
+            link_groups.done(instance);
+            const auto k_vertices = static_cast<std::int64_t>(rule.vertices.size());
+            const auto ranked_count = neighbours.take(0, INT32_MAX);
+            if (ranked_count && link_class.empty()) r.fail("encoding.neighbours", "has links, but encoding.link_classes is empty");
+            for (std::int64_t j = 0; j < ranked_count; ++j) {
+                RuleInstance::Neighbour l;
+                const std::int64_t link_code = neighbours.take(0, k_vertices * static_cast<std::int64_t>(link_class.size()) - 1);
+                l.vertex = static_cast<std::int32_t>(link_code % k_vertices);
+                l.highway = link_class[static_cast<std::size_t>(link_code / k_vertices)];
+                l.rank = static_cast<std::int32_t>(neighbours.take(0, INT32_MAX));
+                inst.neighbours.push_back(l);
+            }
+        }
         const auto class_count = class_groups.count(instance);
         for (std::int64_t j = 0; j < class_count; ++j) {
             const auto edge = static_cast<std::int32_t>(classes.take(0, static_cast<std::int64_t>(rule.edges.size()) - 1));
@@ -724,7 +795,9 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     if (next_id != instance_count) r.fail("encoding", std::to_string(instance_count - next_id) + " instances more than the nonterminals they rewrite");
     point_groups.finish();
     class_groups.finish();
-    for (const Cursor* c : {&axiom_edges, &correction, &shift, &residuals, &tolerance, &links}) c->finish();
+    if (tolerance_at >= 0) r.fail("encoding.tolerance", "names instance " + std::to_string(tolerance_at) + ", past the last");
+    if (ranked_links) link_groups.finish();
+    for (const Cursor* c : {&axiom_edges, &correction, &shift, &residuals, &tolerance, &links, &neighbours}) c->finish();
     try {
         validate(g);
     } catch (const GrammarError& e) {

@@ -18,7 +18,7 @@
 
 namespace ggg::io_detail {
 
-inline constexpr int packed_grammar_version = 4;
+inline constexpr int packed_grammar_version = 5;
 
 // The packed document of a learned grammar, or nothing when the grammar holds something the
 // packed form has no place for (a value off its unit, a nonterminal without its instance):

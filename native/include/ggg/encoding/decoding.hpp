@@ -15,6 +15,10 @@ namespace ggg {
 // vertex budget that fits exactly what its instances place.
 DeriveOptions decode_options(const Grammar& grammar);
 
+// The length of a graph's streets, straight between their ends, in whole metres (-1 when it
+// is not finite): what Encoding::decoded_length_m records.
+std::int64_t street_length_m(const GeometricGraph& g);
+
 // Per rule, its level in the hierarchy: 1 for a rule of street vertices only, else one
 // more than the highest level among the nonterminals it places (any grammar).
 std::vector<int> rule_levels(const Grammar& grammar);

@@ -94,6 +94,18 @@ struct RuleInstance {
     // they are (indices into the rule's points, counted vertex by vertex), and its own.
     std::vector<std::int32_t> rule_points;
     std::vector<Link> embedding;
+    // Links named by their partner instead of aimed at it: the edge from rule vertex `vertex`
+    // goes to the `rank`-th nearest vertex to it (from 0) among those present when the
+    // instance's embedding is resolved, its own vertices left out. Decoding is deterministic,
+    // so the learner knows that rank; a small integer costs less than an offset, and needs
+    // no tolerance.
+    struct Neighbour {
+        std::int32_t vertex = 0;
+        std::int32_t rank = 0;
+        HighwayClass highway = HighwayClass::residential;
+        bool operator==(const Neighbour&) const = default;
+    };
+    std::vector<Neighbour> neighbours;
     // Tolerance of this instance's embedding and merging in metres; 0 = the grammar's.
     // An instance among streets far apart can afford a wide one, which lets it reuse the
     // rule's embedding points instead of storing its own.
@@ -117,6 +129,10 @@ struct Encoding {
     // recorded (grammars written before it was).
     std::int64_t decoded_vertices = -1;
     std::int64_t decoded_edges = -1;
+    // The length of all its streets (straight between their ends) in whole metres: a damaged
+    // grammar whose links still find as many partners (links by rank always find one) joins
+    // other streets, of another length. -1 = not recorded.
+    std::int64_t decoded_length_m = -1;
     bool empty() const { return mode.empty(); }
     bool operator==(const Encoding&) const = default;
 };
