@@ -363,7 +363,13 @@ HierarchyReport continue_hierarchy(GeometricGraph& g, EdgeId first_new_edge, con
         for (std::size_t s = 0; s < roads.size(); ++s) {
             if (used[s] || roads[s].local >= 0 || roads[s].headings.size() != 1) continue;
             if (!index) index.emplace(g, first);
-            const std::optional<Extension> plan = plan_extension(g, *index, first, roads[s].vertex, roads[s].headings.front(), o);
+            // Straight on first; where that meets the city, a street along it or nothing clear,
+            // turned by up to 15 degrees either way, as a road bends (the nearest turn first).
+            std::optional<Extension> plan;
+            for (const double turn : {0.0, 5.0, -5.0, 10.0, -10.0, 15.0, -15.0}) {
+                plan = plan_extension(g, *index, first, roads[s].vertex, rotated(roads[s].headings.front(), turn * M_PI / 180.0), o);
+                if (plan) break;
+            }
             if (!plan) continue;
             EdgeAttributes attributes;
             attributes.highway = roads[s].highway;

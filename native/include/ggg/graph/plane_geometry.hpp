@@ -18,6 +18,12 @@ namespace ggg {
 
 inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
+// v turned anticlockwise by `angle` radians.
+inline Vec2 rotated(const Vec2& v, double angle) {
+    const double c = std::cos(angle), s = std::sin(angle);
+    return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
+
 // The smallest box holding the points from `first` to `last` (empty for none).
 template <typename It>
 Eigen::AlignedBox2d bounds(It first, It last) {
