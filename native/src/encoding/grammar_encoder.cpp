@@ -129,6 +129,11 @@ bool Encoder::encode_level(int level, bool seeded, Take take) {
             // The analyzer ranks by its own count of numbers; whether a group pays in the
             // packed file is decided for each (encode_group), so every group is tried, best first.
             if (ag.group.order() < 2 || ag.group.pattern.edges.empty()) continue;
+            // One street between two street vertices is no pattern (every street is one): with
+            // links as cheap as they are, it would pay as a rule, and a grammar of single streets
+            // shows nothing and grows nothing. Complete encoding takes it when nothing else is left.
+            const auto& symbols = ag.group.pattern.symbols;
+            if (take == Take::paying && ag.group.order() == 2 && symbols[0] == 0 && symbols[1] == 0) continue;
             if (ag.selection.non_overlapping.size() < options_.analysis.detection.min_count) continue;
             encode_group(ag.group, seeded ? Take::seed : take, level, adj, used, level_instances, lr);
         }
