@@ -125,6 +125,14 @@ def test_build_city_makes_the_planned_objects(town, ggg):
     assert road_z[2::3].max() < city.KERB_Z
     assert bpy.context.scene.camera is not None and bpy.context.scene.world is not None
 
+    # The overview camera holds the whole town between its clipping planes, and keeps their
+    # ratio short: with 1 to 2,000 the cm-thin parks flickered through the ground of a grown town.
+    view = parts["view"]
+    to_camera = view.matrix_world.inverted() @ parts["blocks"].matrix_world
+    depth = np.array([-(to_camera @ v.co).z for v in parts["blocks"].data.vertices])
+    assert view.data.clip_start < depth.min() and depth.max() < view.data.clip_end
+    assert view.data.clip_end / view.data.clip_start <= 40.0
+
 
 def test_rebuild_replaces_the_city_and_the_seed_changes_heights(town):
     assert bpy.ops.roads.build_city(seed=1) == {'FINISHED'}
