@@ -471,6 +471,13 @@ TEST(GrammarLearning, PackedEncodingsReadBackAndNameThePlaceOfDamage) {
     expect_error([](nlohmann::json& d) { d["encoding"]["neighbours"][0] = 99; }, "encoding.neighbours"); // 99 links claimed
     expect_error([](nlohmann::json& d) { d["encoding"]["neighbours"].erase(d["encoding"]["neighbours"].size() - 1); }, "encoding.neighbours");
     expect_error([](nlohmann::json& d) { d["encoding"]["neighbours"][1] = -1; }, "encoding.neighbours");
+    // A rank past 255 (which would make decoding search the whole city for every link).
+    expect_error([](nlohmann::json& d) {
+        auto& column = d["encoding"]["neighbours"];
+        std::size_t at = 0;
+        while (column[at].get<int>() == 0) ++at; // the first instance with a link
+        column[at + 2] = 256;                    // its first link's rank
+    }, "encoding.neighbours");
     expect_error([](nlohmann::json& d) { d["encoding"]["embedding"] = nlohmann::json::array({100000, 1, 0, 0, 0, 0}); }, "encoding.embedding");
     expect_error([](nlohmann::json& d) { d["encoding"]["tolerance"] = nlohmann::json::array({0, 3, 100000, 3}); }, "encoding.tolerance");
     expect_error([](nlohmann::json& d) { d["encoding"]["mode"] = "zip"; }, "encoding.mode");

@@ -268,7 +268,7 @@ void Encoder::embed(Grammar& grammar) {
     // The rank of y among the vertices nearest to x when instance i's embedding is resolved,
     // its own left out; none where another vertex is about as near as y (ties must not
     // decide) or y is not among the nearest few hundred (an offset is then as short).
-    constexpr std::size_t max_rank = 255;
+    constexpr auto max_rank = static_cast<std::size_t>(RuleInstance::max_rank);
     auto rank_of = [&](std::size_t i, VertexId x, VertexId y) -> std::optional<std::int32_t> {
         const Vec2 p = decoded_[static_cast<std::size_t>(x)];
         const double dy = (decoded_[static_cast<std::size_t>(y)] - p).squaredNorm();

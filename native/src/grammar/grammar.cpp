@@ -131,7 +131,7 @@ void validate_encoding(const Grammar& g) {
         }
         for (const RuleInstance::Neighbour& link : inst.neighbours) {
             if (link.vertex < 0 || static_cast<std::size_t>(link.vertex) >= size) fail(where + ".neighbours", "rule vertex out of range");
-            if (link.rank < 0) fail(where + ".neighbours", "a rank is >= 0");
+            if (link.rank < 0 || link.rank > RuleInstance::max_rank) fail(where + ".neighbours", "a rank is from 0 to " + std::to_string(RuleInstance::max_rank));
         }
         for (const auto& [edge, highway] : inst.edge_classes) {
             if (edge < 0 || static_cast<std::size_t>(edge) >= rule->edges.size()) fail(where + ".edge_classes", "rule edge out of range");

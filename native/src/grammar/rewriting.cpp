@@ -84,18 +84,19 @@ public:
         return best;
     }
 
-    // The `rank`-th nearest vertex to p (from 0) among those that pass `accept`, or -1; at
-    // most `skipped` vertices fail `accept`. Nearness is the squared distance, as the learner
-    // measures it when it names a rank (grammar_assembly.cpp), which it does only where no
-    // other vertex is as near as the partner: ties never decide.
+    // The `rank`-th nearest vertex to p (from 0) among those that pass `accept`, or -1.
+    // Nearness is the squared distance, as the learner measures it when it names a rank
+    // (grammar_assembly.cpp), which it does only where no other vertex is as near as the
+    // partner: ties never decide. A rank is at most RuleInstance::max_rank (validate), so the
+    // search stays small.
     template <typename Accept>
-    VertexId ranked(const Vec2& p, std::size_t rank, std::size_t skipped, Accept accept) const {
-        const std::size_t k = std::min(rank + skipped + 2, next_.vertex_count());
+    VertexId ranked(const Vec2& p, std::size_t rank, Accept accept) const {
+        const std::size_t k = std::min(rank + 2, next_.vertex_count());
         std::vector<std::pair<double, VertexId>> found;
         found.reserve(k);
-        for (auto it = tree_.qbegin(bgi::nearest(spatial::point(p), static_cast<unsigned>(k))); it != tree_.qend(); ++it) {
-            const VertexId v = it->second;
-            if (accept(v)) found.emplace_back((next_.positions[static_cast<std::size_t>(v)] - p).squaredNorm(), v);
+        const auto query = bgi::nearest(spatial::point(p), static_cast<unsigned>(k)) && bgi::satisfies([&](const Entry& e) { return accept(e.second); });
+        for (auto it = tree_.qbegin(query); it != tree_.qend(); ++it) {
+            found.emplace_back((next_.positions[static_cast<std::size_t>(it->second)] - p).squaredNorm(), it->second);
         }
         if (found.size() <= rank) return -1;
         std::nth_element(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(rank), found.end());
@@ -387,10 +388,17 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
                 }
             }
             for (const RuleInstance::Link& link : w.instance->embedding) connect(static_cast<std::size_t>(link.vertex), link.point);
+            // The instance's own vertices, sorted: the last rule of a complete encoding has
+            // most of a city's.
+            std::vector<VertexId> sorted_own;
+            if (!w.instance->neighbours.empty()) {
+                sorted_own = own;
+                std::sort(sorted_own.begin(), sorted_own.end());
+            }
             for (const RuleInstance::Neighbour& link : w.instance->neighbours) {
                 const auto i = static_cast<std::size_t>(link.vertex);
-                const VertexId partner = builder.ranked(w.positions[i], static_cast<std::size_t>(link.rank), own.size(),
-                                                        [&](VertexId v) { return std::find(own.begin(), own.end(), v) == own.end(); });
+                const VertexId partner = builder.ranked(w.positions[i], static_cast<std::size_t>(link.rank),
+                                                        [&](VertexId v) { return !std::binary_search(sorted_own.begin(), sorted_own.end(), v); });
                 if (partner < 0) {
                     ++report.missed_embeddings;
                     continue;

@@ -101,7 +101,7 @@ json encoding_json(const Encoding& enc) {
 } // namespace
 
 json grammar_to_json(const Grammar& g) {
-    // A learned grammar is data: packed (version 4) wherever its values fit the packed units.
+    // A learned grammar is data: packed (version 5) wherever its values fit the packed units.
     if (!g.encoding.empty()) {
         if (auto packed = io_detail::pack_grammar(g)) return std::move(*packed);
     }
@@ -281,7 +281,7 @@ Encoding read_encoding(const Reader& r, const json& doc, std::size_t symbol_coun
             for (std::size_t i = 0; i < ranked.size(); i += 3) {
                 RuleInstance::Neighbour link;
                 link.vertex = static_cast<std::int32_t>(r.integer(ranked[i], where, 0, INT32_MAX));
-                link.rank = static_cast<std::int32_t>(r.integer(ranked[i + 1], where, 0, INT32_MAX));
+                link.rank = static_cast<std::int32_t>(r.integer(ranked[i + 1], where, 0, RuleInstance::max_rank));
                 link.highway = static_cast<HighwayClass>(r.integer(ranked[i + 2], where, 0, class_max));
                 ri.neighbours.push_back(link);
             }

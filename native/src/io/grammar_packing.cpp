@@ -674,14 +674,19 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     if (ranked_links) {
         // As many instances as the derivation meets nonterminals; each takes one entry of
         // neighbours at least, which bounds a rule that places its own symbol.
+        std::vector<std::vector<Symbol>> placed_by_rule(g.rules.size()); // the nonterminals each rule places
+        for (std::size_t k = 0; k < g.rules.size(); ++k) {
+            for (const RuleVertex& v : g.rules[k].vertices) {
+                if (v.symbol) placed_by_rule[k].push_back(v.symbol);
+            }
+        }
         std::vector<Symbol> met;
         for (const AxiomVertex& v : g.axiom_vertices) {
             if (v.symbol) met.push_back(v.symbol);
         }
         for (std::size_t k = 0; k < met.size() && met.size() <= neighbours.values.size(); ++k) {
-            for (const RuleVertex& v : g.rules[met[k] - 1].vertices) {
-                if (v.symbol) met.push_back(v.symbol);
-            }
+            const auto& placed = placed_by_rule[static_cast<std::size_t>(met[k] - 1)];
+            met.insert(met.end(), placed.begin(), placed.end());
         }
         if (met.size() > neighbours.values.size()) r.fail("encoding.neighbours", "ends early (" + std::to_string(neighbours.values.size()) + " entries)");
         instance_count = met.size();
@@ -776,7 +781,7 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
                 const std::int64_t link_code = neighbours.take(0, k_vertices * static_cast<std::int64_t>(link_class.size()) - 1);
                 l.vertex = static_cast<std::int32_t>(link_code % k_vertices);
                 l.highway = link_class[static_cast<std::size_t>(link_code / k_vertices)];
-                l.rank = static_cast<std::int32_t>(neighbours.take(0, INT32_MAX));
+                l.rank = static_cast<std::int32_t>(neighbours.take(0, RuleInstance::max_rank));
                 inst.neighbours.push_back(l);
             }
         }

@@ -99,6 +99,7 @@ struct RuleInstance {
     // instance's embedding is resolved, its own vertices left out. Decoding is deterministic,
     // so the learner knows that rank; a small integer costs less than an offset, and needs
     // no tolerance.
+    static constexpr std::int32_t max_rank = 255; // beyond it an offset is as short, and a decoder's search stays small
     struct Neighbour {
         std::int32_t vertex = 0;
         std::int32_t rank = 0;
