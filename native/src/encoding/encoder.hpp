@@ -203,6 +203,7 @@ private:
     std::vector<std::int32_t> axiom_index_; // per input vertex: its axiom vertex, -1 = none
     std::vector<Vec2> decoded_;             // per input vertex: where the derivation puts it
     std::vector<char> placed_;
+    bool derivation_matches_ = false; // simulate: the derivation gave exactly the input's vertices
     std::vector<Similarity2> effective_;    // per instance: the frame its rule is placed in
     // Per derivation step (0 = the axiom): the nonterminals it places, where, and by which
     // instance (-1: the axiom).

@@ -191,6 +191,11 @@ void Encoder::simulate(Grammar& grammar) {
     for (std::size_t v = 0; v < input_.vertex_count(); ++v) {
         if (!placed_[v]) decoded_[v] = input_.positions[v]; // merged into another vertex (paper mode)
     }
+    // The derivation holds exactly the input's vertices, each where decoded_ says: then the
+    // vertices present at each step are known, and links can name their partners by rank.
+    derivation_matches_ = g.vertex_count() == input_.vertex_count() &&
+                          std::all_of(placed_.begin(), placed_.end(), [](char p) { return p != 0; }) &&
+                          std::all_of(g.symbols.begin(), g.symbols.end(), [](Symbol s) { return s == 0; });
 }
 
 void Encoder::embed(Grammar& grammar) {
@@ -262,9 +267,9 @@ void Encoder::embed(Grammar& grammar) {
         nonterminals.emplace_back(entries.begin(), entries.end());
     }
     // A link names its partner by rank (RuleInstance::neighbours) only where decoding sees
-    // the same vertices as this derivation: every input vertex placed (so always, as the
-    // vertices of instances never merge).
-    const bool ranks = std::all_of(placed_.begin(), placed_.end(), [](char p) { return p != 0; });
+    // the same vertices as this derivation (always so far: the vertices of instances never
+    // merge, and a learned grammar places nothing but its instances).
+    const bool ranks = derivation_matches_;
     // The rank of y among the vertices nearest to x when instance i's embedding is resolved,
     // its own left out; none where another vertex is about as near as y (ties must not
     // decide) or y is not among the nearest few hundred (an offset is then as short).
