@@ -288,10 +288,7 @@ void Encoder::embed(Grammar& grammar) {
             else if (d <= dy + margin) ++alike;
         };
         bool reached = false; // y itself among the nearest k
-        const auto present = [&](const Entry& e) {
-            const auto v = static_cast<VertexId>(e.second);
-            return step_of(v) <= step && placer_[e.second] != inst;
-        };
+        const auto present = [&](const Entry& e) { return step_of(static_cast<VertexId>(e.second)) <= step && placer_[e.second] != inst; };
         double farthest = 0.0;
         std::size_t found = 0;
         for (auto it = streets.qbegin(bgi::nearest(spatial::point(p), k) && bgi::satisfies(present)); it != streets.qend(); ++it) {
@@ -318,6 +315,9 @@ void Encoder::embed(Grammar& grammar) {
         if (alike || nearer > max_rank) return std::nullopt;
         return static_cast<std::int32_t>(nearer);
     };
+    // How far apart things are around a partner, for the tolerance of links aimed by an offset:
+    // all the streets (more than are placed by then, which only errs on the safe side) and
+    // the nonterminals of the step.
     const double same_place = 0.1 * options_.quantum_m; // only the vertex itself is nearer
     auto nearest_other = [&](const Tree& tree, const Vec2& p) {
         for (auto it = tree.qbegin(bgi::nearest(spatial::point(p), 2)); it != tree.qend(); ++it) {

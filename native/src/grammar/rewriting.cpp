@@ -364,17 +364,20 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
     for (Rewrite& w : placed) {
         const double tolerance = rewrite_tolerance(options, w);
         const auto& own = w.ids;
-        auto connect = [&](std::size_t i, const EmbeddingPoint& ep) {
-            const Vec2 target = w.positions[i] + w.frame.apply_linear(ep.offset);
-            const VertexId partner =
-                builder.nearest(target, tolerance, [&](VertexId v) { return std::find(own.begin(), own.end(), v) == own.end(); });
+        // The street from rule vertex i to its partner, if there is one.
+        auto join = [&](std::size_t i, VertexId partner, HighwayClass highway) {
             if (partner < 0) {
                 ++report.missed_embeddings;
                 return;
             }
             EdgeAttributes a;
-            a.highway = ep.highway;
+            a.highway = highway;
             report.embedding_edges += builder.add_edge(own[i], partner, a);
+        };
+        auto connect = [&](std::size_t i, const EmbeddingPoint& ep) {
+            const Vec2 target = w.positions[i] + w.frame.apply_linear(ep.offset);
+            join(i, builder.nearest(target, tolerance, [&](VertexId v) { return std::find(own.begin(), own.end(), v) == own.end(); }),
+                 ep.highway);
         };
         if (w.instance) {
             if (!w.instance->rule_points.empty()) {
@@ -397,15 +400,9 @@ bool derive_step(GeometricGraph& g, const Grammar& grammar, const DeriveOptions&
             }
             for (const RuleInstance::Neighbour& link : w.instance->neighbours) {
                 const auto i = static_cast<std::size_t>(link.vertex);
-                const VertexId partner = builder.ranked(w.positions[i], static_cast<std::size_t>(link.rank),
-                                                        [&](VertexId v) { return !std::binary_search(sorted_own.begin(), sorted_own.end(), v); });
-                if (partner < 0) {
-                    ++report.missed_embeddings;
-                    continue;
-                }
-                EdgeAttributes a;
-                a.highway = link.highway;
-                report.embedding_edges += builder.add_edge(own[i], partner, a);
+                join(i, builder.ranked(w.positions[i], static_cast<std::size_t>(link.rank),
+                                       [&](VertexId v) { return !std::binary_search(sorted_own.begin(), sorted_own.end(), v); }),
+                     link.highway);
             }
         } else {
             for (std::size_t i = 0; i < w.rule->vertices.size(); ++i) {
