@@ -231,9 +231,10 @@ private:
     // ---- a street's line (tracing_lines.cpp) -----------------------------------------------
 
     // Where the streets around a point run on a grid (most of their length along two
-    // perpendicular directions), a street traced from there keeps to it: a heading within a
-    // few degrees of the grid is turned onto it, so that the small bends of the examples do not
-    // add up. Local, so that a grid district and a winding one next to it each keep their own.
+    // perpendicular directions), a street traced from there keeps to it: its heading is turned
+    // onto the grid's nearest direction (grid_tolerance_, 45 degrees: every heading), so that
+    // the small bends of the examples do not add up and streets meet square. Local, so that a
+    // grid district and a winding one next to it each keep their own.
     std::optional<double> local_grid(const Vec2& p) const;
 
     // The heading turned onto the local grid at p, where it is within grid_tolerance_ of it.
