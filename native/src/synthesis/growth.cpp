@@ -104,6 +104,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_t_junctions = traced.t_junctions;
         report.traced_dense = traced.dense;
         report.traced_across = traced.across;
+        report.traced_crossed = traced.crossed;
         street_density_ = traced.density;
         density_radius_ = 2.0 * traced.typical_m;
         if (traced.streets > 0) reindex();

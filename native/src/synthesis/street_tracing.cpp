@@ -72,7 +72,8 @@ void Tracer::open_end(const Street& s, const std::vector<Vec2>& line, const Exam
     for (const Branch& b : example->branches) queue_branch(v, arriving, b, mirror, s.highway, s.generation + 1);
 }
 
-void Tracer::queue_branch(VertexId from, double arriving, const Branch& branch, bool mirror, HighwayClass own, std::size_t generation) {
+void Tracer::queue_branch(VertexId from, double arriving, const Branch& branch, bool mirror, HighwayClass own, std::size_t generation,
+                          bool through) {
     Street next;
     next.from = from;
     next.heading = arriving + (mirror ? -branch.turn : branch.turn);
@@ -84,6 +85,7 @@ void Tracer::queue_branch(VertexId from, double arriving, const Branch& branch, 
     next.highway = branch.keeps_class ? own : branch.highway;
     next.main = main_class(next.highway);
     next.generation = generation;
+    next.through = through;
     next.order = order_++;
     queue_.push(std::move(next));
 }
@@ -104,8 +106,10 @@ void Tracer::trace(const Street& s) {
     if (line.size() < 2 || clearance(s.from, line[1] - line[0]) < min_angle_) return;
     // A street is traced only where the streets around are not yet as dense as the city's.
     // The streets that join the city always are, and so is one street on from each street's
-    // end: a dead end only where the city's junctions have them.
-    if (s.generation > 0 && degree(s.from) >= 2 && denser_than_city(line)) {
+    // end: a dead end only where the city's junctions have them. A street going on across a
+    // crossing is let on up to half again the city's density: it turns a T-junction into the
+    // crossing the city would have there, and without it a grid grows staggered T's.
+    if (s.generation > 0 && degree(s.from) >= 2 && denser_than_city(line, s.through ? 1.5 : 1.0)) {
         ++report_.dense;
         return;
     }

@@ -43,6 +43,35 @@ bool Tracer::end_at(const Street& s, const std::vector<Vec2>& line, VertexId w) 
     return true;
 }
 
+void Tracer::go_on_across(const Street& s, const std::vector<Vec2>& line, VertexId x) {
+    // Across a street it meets about square (within 30 degrees): a slanting crossing makes
+    // two sharp corners, which cities avoid.
+    const Vec2 in = (line.back() - line[line.size() - 2]).normalized();
+    const Vec2 px = g_.positions[static_cast<std::size_t>(x)];
+    const auto street = static_cast<EdgeId>(g_.edge_count() - 1); // the one just added, which arrives
+    for (const EdgeId e : adjacency_[static_cast<std::size_t>(x)]) {
+        if (e == street) continue;
+        const Vec2 d = leaving(g_, e, x) - px;
+        if (d.norm() < 1e-9 || std::abs(in.dot(d.normalized())) > 0.5) return;
+    }
+    // One of the city's junctions, seen from the arriving street (a bend or a dead end says
+    // nothing of how streets cross): where it is a crossing, its street straight on.
+    const Example* junction = nullptr;
+    for (int attempt = 0; attempt < 16 && !junction; ++attempt) {
+        const Example& example = example_for(s.main);
+        if (example.branches.size() >= 2) junction = &example;
+    }
+    if (!junction || junction->branches.size() < 3) return;
+    const Branch* straight = nullptr;
+    for (const Branch& b : junction->branches) {
+        if (std::abs(b.turn) < M_PI / 6 && (!straight || std::abs(b.turn) < std::abs(straight->turn))) straight = &b;
+    }
+    if (!straight) return;
+    const double arriving = angle_of(line.back() - line[line.size() - 2]);
+    queue_branch(x, arriving, *straight, std::bernoulli_distribution(0.5)(rng_), s.highway, s.generation + 1, true);
+    ++report_.crossed;
+}
+
 Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
     const double snap = 0.3 * typical_;
     // A junction this close is joined rather than met beside it: less where the city's share of
@@ -74,6 +103,7 @@ Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
         const VertexId x = split(hit->edge, cut.back());
         add_street(s.from, x, cut, s.highway);
         ++report_.t_junctions;
+        go_on_across(s, cut, x);
         return Settled::joined;
     }
     // Out of the region: only to join a street there.
@@ -97,6 +127,7 @@ Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
             const VertexId junction = split(e, x);
             add_street(s.from, junction, to_x, s.highway);
             ++report_.t_junctions;
+            go_on_across(s, to_x, junction);
             return Settled::joined;
         }
     }

@@ -25,7 +25,7 @@ void Tracer::index() {
     expected_streets_ = std::max(1.0, 2.0 * std::abs(area) / 2.0 / (typical_ * typical_));
 }
 
-bool Tracer::denser_than_city(const std::vector<Vec2>& line) const {
+bool Tracer::denser_than_city(const std::vector<Vec2>& line, double slack) const {
     if (density_ <= 0.0 || line.size() < 2) return false;
     // The disc around the line's far end, two typical streets across: small enough to be
     // local, large enough to hold a block or two.
@@ -34,7 +34,7 @@ bool Tracer::denser_than_city(const std::vector<Vec2>& line) const {
     double length = 0.0;
     for (std::size_t k = 0; k + 1 < line.size(); ++k) length += piece_within(line[k], line[k + 1], centre, r);
     length += street_length_within(g_, segments_, centre, r);
-    return length > density_ * M_PI * r * r;
+    return length > slack * density_ * M_PI * r * r;
 }
 
 bool Tracer::adjacent(VertexId v, VertexId w) const {

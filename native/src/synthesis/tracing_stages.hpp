@@ -73,6 +73,10 @@ struct Street {
     bool main = false;
     std::size_t generation = 0;
     std::size_t order = 0;
+    // It goes on across the street it met (go_on_across): one street through a crossing, not
+    // a new street from a junction, so the density cap that stops streets at junctions is
+    // looser for it (trace).
+    bool through = false;
     int retries = 0;         // a street from the base that reaches the region is tried again
     double min_length = 0.0; // (and must still reach into the region)
 };
@@ -184,7 +188,8 @@ private:
     // Whether the streets around the line, with it, would be denser than the city's: a
     // street is traced only where the ground around it still has fewer streets than the city
     // has on as much ground, so that a grown district is as dense as the city it continues.
-    bool denser_than_city(const std::vector<Vec2>& line) const;
+    // (`slack` times the city's density, for a street through a crossing.)
+    bool denser_than_city(const std::vector<Vec2>& line, double slack = 1.0) const;
 
     // A vertex, a street (counted in the report) and a street split at `where` (the new
     // junction returned), with the adjacency and the indexes kept up.
@@ -260,6 +265,10 @@ private:
     // near by and crosses nothing.
     void squared(const Street& s, std::vector<Vec2>& line, EdgeId e, std::size_t piece);
 
+    // A street that met another at the new junction x goes on across it, as often as the
+    // city's junctions are crossings: a grid's streets run through, not into a T each.
+    void go_on_across(const Street& s, const std::vector<Vec2>& line, VertexId x);
+
     // The street along `line`, bent to end at the junction w, added where it fits there.
     bool end_at(const Street& s, const std::vector<Vec2>& line, VertexId w);
 
@@ -273,7 +282,8 @@ private:
 
     // The street that leaves the junction `from` as `branch` does, seen from a street arriving
     // along `arriving` (radians) of class `own`, mirrored or not; queued for tracing.
-    void queue_branch(VertexId from, double arriving, const Branch& branch, bool mirror, HighwayClass own, std::size_t generation);
+    void queue_branch(VertexId from, double arriving, const Branch& branch, bool mirror, HighwayClass own, std::size_t generation,
+                      bool through = false);
 
     // A new junction at the end of `line`, shaped like `example` (none: a dead end).
     void open_end(const Street& s, const std::vector<Vec2>& line, const Example* example, bool mirror);
