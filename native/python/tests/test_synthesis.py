@@ -82,3 +82,20 @@ def test_continue_hierarchy_joins_facing_main_roads():
         ggg.continue_hierarchy(g, 9)
     with pytest.raises(ggg.UsageError):
         ggg.continue_hierarchy(g, 2, max_detour=0.5)
+
+
+# A dead end closed at the end onto a grown street ahead makes a T-junction there. A grown
+# street may leave the region to join a street of the base, so the junction was once made
+# outside the region (23 m west of it, east of the sample town with a rule placed by hand).
+def test_dead_ends_are_closed_inside_the_region():
+    from pathlib import Path
+    sample = Path(__file__).resolve().parents[3] / "samples" / "sample_city.osm"
+    town = ggg.read_graph(str(sample), highways="drivable")
+    grammar, _ = ggg.learn(town)
+    region = np.array([[700.0, -600.0], [1500.0, -600.0], [1500.0, 600.0], [700.0, 600.0]])
+    placed = (grammar.rules[0]["symbol"], 1100.0, 0.0, 80.0, 20.0)
+    for seed in (1, 2, 3):
+        for placements in ([], [placed]):
+            grown, report = ggg.grow_region(town, grammar, region, seed=seed, placements=placements)
+            new = grown.positions[town.vertex_count:]
+            assert ((new[:, 0] >= 700.0 - 1e-6) & (new[:, 0] <= 1500.0 + 1e-6) & (np.abs(new[:, 1]) <= 600.0 + 1e-6)).all(), (seed, report)

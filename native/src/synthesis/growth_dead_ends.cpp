@@ -296,7 +296,8 @@ bool Grower::t_junction(VertexId v, EdgeId hit, const Vec2& x, const EdgeAttribu
     const double length = g_.edge_length(hit);
     const double keep = std::max(o_.spacing * length, 1e-6);
     if ((x - g_.positions[static_cast<std::size_t>(a)]).norm() < keep || (x - g_.positions[static_cast<std::size_t>(b)]).norm() < keep) return false;
-    if (!inside(region_, 0.5 * (p + x))) return false;
+    // The junction in the region too: a grown street may leave it to join one of the base.
+    if (!inside(region_, x) || !inside(region_, 0.5 * (p + x))) return false;
     // The blocks on either side of the new street, with the junction in place.
     const auto x_id = static_cast<VertexId>(g_.vertex_count());
     auto around = [&](VertexId w) -> std::vector<VertexId>& { return adjacency_[static_cast<std::size_t>(w)]; };
