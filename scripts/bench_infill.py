@@ -299,14 +299,23 @@ def stitch(seed=1):
             "reached": int(np.sum(degree[facing] >= 2)), "gap_west": gap_west, "gap_east": gap_east}
 
 
-def measure(city, seeds):
-    graph = ggg.read_graph(str(OSM / city))
+def hole_of(graph):
+    """The infill test's hole in `graph`: a square of 30 % of its extent's shorter side
+    around its median vertex, as (x0, y0, x1, y1)."""
     p = graph.positions
     x0, y0 = p.min(axis=0)
     x1, y1 = p.max(axis=0)
     side = 0.3 * min(x1 - x0, y1 - y0)
     cx, cy = np.median(p[:, 0]), np.median(p[:, 1])
-    hole = (cx - side / 2, cy - side / 2, cx + side / 2, cy + side / 2)
+    return (cx - side / 2, cy - side / 2, cx + side / 2, cy + side / 2)
+
+
+def measure(city, seeds):
+    graph = ggg.read_graph(str(OSM / city))
+    p = graph.positions
+    hole = hole_of(graph)
+    side = hole[2] - hole[0]
+    cx, cy = 0.5 * (hole[0] + hole[2]), 0.5 * (hole[1] + hole[3])
     ring_half = side / 2 * math.sqrt(2.0)  # the ring has the hole's area
     outer = (cx - ring_half, cy - ring_half, cx + ring_half, cy + ring_half)
     in_hole = inside(p, *hole)

@@ -135,12 +135,9 @@ def infill_figure(out):
     fig, axes = plt.subplots(len(cities), 2, figsize=(11, 5.6 * len(cities)))
     for row, (name, title) in zip(axes, cities):
         graph = ggg.read_graph(str(OSM / name))
-        p = graph.positions
-        lo, hi = p.min(axis=0), p.max(axis=0)
-        side = 0.3 * min(hi - lo)
-        centre = np.median(p, axis=0)
-        a, b = centre - side / 2, centre + side / 2
-        hole = (a[0], a[1], b[0], b[1])
+        hole = bench_infill.hole_of(graph)
+        a, b = np.array(hole[:2]), np.array(hole[2:])
+        side = hole[2] - hole[0]
         rest, _, _ = bench_infill.cut_hole(graph, hole)
         grammar, _ = ggg.learn(rest)
         corners = np.array([[a[0], a[1]], [b[0], a[1]], [b[0], b[1]], [a[0], b[1]]])

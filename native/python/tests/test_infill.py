@@ -81,10 +81,8 @@ def test_two_cities_stitched_continue_the_streets_that_reach_the_gap():
 # hole: in the Marais, 90 m and 173 m long between two of its streets, all outside the hole.
 def test_streets_traced_on_from_the_base_do_not_join_the_city_outside_the_region():
     graph = bench_infill.ggg.read_graph(str(bench_infill.OSM / "paris_marais.osm.pbf"))
-    p = graph.positions
-    side = 0.3 * min(*(p.max(axis=0) - p.min(axis=0)))
-    cx, cy = np.median(p[:, 0]), np.median(p[:, 1])
-    x0, y0, x1, y1 = cx - side / 2, cy - side / 2, cx + side / 2, cy + side / 2
+    x0, y0, x1, y1 = bench_infill.hole_of(graph)
+    side = x1 - x0
     rest, _, _ = bench_infill.cut_hole(graph, (x0, y0, x1, y1))
     grammar, _ = bench_infill.ggg.learn(rest)
     corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])

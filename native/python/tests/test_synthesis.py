@@ -1,4 +1,6 @@
 """ggg.grow_region and ggg.replace_isogroup on a street grid: arrays in and out, budgets, errors."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -88,7 +90,6 @@ def test_continue_hierarchy_joins_facing_main_roads():
 # street may leave the region to join a street of the base, so the junction was once made
 # outside the region (23 m west of it, east of the sample town with a rule placed by hand).
 def test_dead_ends_are_closed_inside_the_region():
-    from pathlib import Path
     sample = Path(__file__).resolve().parents[3] / "samples" / "sample_city.osm"
     town = ggg.read_graph(str(sample), highways="drivable")
     grammar, _ = ggg.learn(town)

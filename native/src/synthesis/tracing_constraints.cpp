@@ -41,15 +41,7 @@ bool Tracer::end_at(const Street& s, const std::vector<Vec2>& line, VertexId w) 
     // A street of the base traced on joins what it meets only once it is in the region: one
     // that joins another street of the base on the way there adds a street to the city around
     // instead of continuing it into the region.
-    if (s.generation == 0 && static_cast<std::size_t>(w) < base_vertices_) {
-        bool enters = false;
-        for (std::size_t k = 0; k + 1 < to_w.size() && !enters; ++k) {
-            for (const Vec2& q : {Vec2(0.5 * (to_w[k] + to_w[k + 1])), to_w[k + 1]}) {
-                enters = enters || (inside(region_, q) && distance_to_ring(region_, q) > 0.1 * typical_);
-            }
-        }
-        if (!enters) return false;
-    }
+    if (s.generation == 0 && static_cast<std::size_t>(w) < base_vertices_ && !enters_region(to_w)) return false;
     add_street(s.from, w, to_w, s.highway);
     ++report_.joined;
     return true;

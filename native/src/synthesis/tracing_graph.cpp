@@ -92,6 +92,14 @@ bool Tracer::leaves_region(const std::vector<Vec2>& line, std::size_t from_piece
     return false;
 }
 
+bool Tracer::enters_region(const std::vector<Vec2>& line) const {
+    auto well_inside = [&](const Vec2& q) { return inside(region_, q) && distance_to_ring(region_, q) > 0.1 * typical_; };
+    for (std::size_t k = 0; k + 1 < line.size(); ++k) {
+        if (well_inside(0.5 * (line[k] + line[k + 1])) || well_inside(line[k + 1])) return true;
+    }
+    return false;
+}
+
 bool Tracer::leaves_region_inside_line(const std::vector<Vec2>& line) const {
     for (std::size_t k = 1; k + 1 < line.size(); ++k) {
         if (!inside(region_, line[k])) return true;

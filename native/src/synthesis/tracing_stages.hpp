@@ -159,6 +159,10 @@ private:
     // Whether the line has a point outside the region, from its point `from_piece` on.
     bool leaves_region(const std::vector<Vec2>& line, std::size_t from_piece) const;
 
+    // Whether the line reaches into the region past its border (a tenth of a typical street in,
+    // at one of its points after the first or the middle of one of its pieces).
+    bool enters_region(const std::vector<Vec2>& line) const;
+
     // Whether the line has a point outside the region between its ends.
     bool leaves_region_inside_line(const std::vector<Vec2>& line) const;
 
