@@ -369,6 +369,12 @@ BAD_REGIONS = {
     "no edges": (lambda: _loose_vertices(), 'ERROR', "has no edges"),
     "closed surface": (lambda: _cube(), 'ERROR', "closed surface"),
     "branching": (lambda: _branching(), 'ERROR', "branches"),
+    # Native refusals, reported by the job: an outline that crosses itself (a bow tie, not
+    # symmetric, so that it still has an area) and one 40 km east of the town.
+    "bow tie": (lambda: mesh_region("Bad", [[800.0, 0.0], [1000.0, 300.0], [1000.0, 0.0], [800.0, 200.0]]), 'ERROR',
+                "crosses itself (its sides from corners 1 and 3 meet)"),
+    "far away": (lambda: mesh_region("Bad", RECTANGLE + np.array([40000.0, 0.0])), 'ERROR',
+                 "km from the streets of the base (at most 20 km): check its coordinates"),
     "too small": (lambda: mesh_region("Bad", [[1000.0, 0.0], [1001.0, 0.0], [1001.0, 1.0]]), 'WARNING',
                   "Nothing grew in Bad from sample_city: no rule fits there"),
 }

@@ -209,6 +209,26 @@ TEST(Growth, BadInputIsAClearError) {
     const Town& t = town();
     EXPECT_THROW(grow_region(t.graph, t.grammar, {{0, 0}, {1, 1}}), UsageError);
     EXPECT_THROW(grow_region(t.graph, t.grammar, {{0, 0}, {1, 1}, {2, 2}}), UsageError); // no area
+    // A bow tie: its first and third sides cross.
+    try {
+        grow_region(t.graph, t.grammar, {{1100, 0}, {1300, 200}, {1300, 0}, {1100, 200}});
+        ADD_FAILURE() << "a region that crosses itself was grown";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("crosses itself (its sides from corners 1 and 3 meet)"), std::string::npos) << e.what();
+    }
+    // The town's square moved 110 km east: another place's coordinates.
+    std::vector<Vec2> far = east_of_town();
+    for (Vec2& p : far) p.x() += 110'000.0;
+    try {
+        grow_region(t.graph, t.grammar, far);
+        ADD_FAILURE() << "a region 110 km away was grown";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("km from the streets of the base (at most 20 km)"), std::string::npos) << e.what();
+    }
+    // Without a base there is nothing to be far from: the same region grows from the rules.
+    GrowOptions few;
+    few.max_placements = 3;
+    EXPECT_GT(grow_region(GeometricGraph{}, t.grammar, far, few).vertex_count(), 0u);
     Grammar none = t.grammar;
     none.rules.clear();
     none.encoding = {};

@@ -240,6 +240,22 @@ TEST(Hardening, ARegionWithoutAreaIsRefused) {
     EXPECT_NE(result.err.find("no area"), std::string::npos) << result.err;
 }
 
+TEST(Hardening, ARegionThatCrossesItselfOrLiesFarFromTheBaseIsRefusedAndNothingIsWritten) {
+    const std::string grammar = temp_path(".json");
+    ASSERT_EQ(run_cli("learn '" + sample_town + "' -o '" + grammar + "'").code, 0);
+    nlohmann::json bow = nlohmann::json::array({{8.964, 45.998}, {8.968, 46.002}, {8.968, 45.998}, {8.964, 46.002}, {8.964, 45.998}});
+    const std::string bow_tie = temp_file(nlohmann::json{{"type", "Polygon"}, {"coordinates", {bow}}}.dump(), ".geojson");
+    // The sample town's neighbourhood with longitude and latitude swapped: 4,800 km away.
+    const std::string swapped = temp_file(square_region(46.0, 8.96, 0.002), ".geojson");
+    for (const auto& [region, expected] : {std::pair{bow_tie, "crosses itself"}, std::pair{swapped, "km from the streets of the base"}}) {
+        const std::string out = temp_path(".geojson");
+        const auto result = run_cli("grow '" + grammar + "' --base '" + sample_town + "' --region '" + region + "' -o '" + out + "'");
+        EXPECT_EQ(result.code, 2) << result.err;
+        EXPECT_NE(result.err.find(expected), std::string::npos) << result.err;
+        EXPECT_FALSE(std::ifstream(out).good()) << out << " was written";
+    }
+}
+
 TEST(Hardening, UntilNothingRepeatsStopsAtItsBudgetAndKeepsWhatItFound) {
     const auto analysis = run_cli("analyze '" + sample_town + "' --max-order 0 --max-seconds 3 --top 3");
     ASSERT_EQ(analysis.code, 0) << analysis.err;

@@ -70,12 +70,17 @@ def test_grow_region_names_its_options_for_an_unknown_one(town, town_grammar):
     assert "prune_stubs = 0.75" in ggg.grow_region.__doc__
 
 
-def test_grow_region_takes_the_largest_seed_and_refuses_a_region_without_area(town, town_grammar):
+def test_grow_region_takes_the_largest_seed_and_refuses_a_region_without_area_crossed_or_far(town, town_grammar):
     grown, report = ggg.grow_region(town, town_grammar, REGION, seed=2 ** 64 - 1, max_placements=5)
     assert grown.vertex_count >= town.vertex_count
     line = np.array([[800.0, 0.0], [1000.0, 100.0], [1200.0, 200.0]])
     with pytest.raises(ValueError, match="no area"):
         ggg.grow_region(town, town_grammar, line)
+    bow_tie = np.array([[800.0, 0.0], [1000.0, 200.0], [1000.0, 0.0], [800.0, 200.0]])
+    with pytest.raises(ValueError, match=r"crosses itself \(its sides from corners 1 and 3 meet\)"):
+        ggg.grow_region(town, town_grammar, bow_tie)
+    with pytest.raises(ValueError, match=r"the region is 10\d km from the streets of the base \(at most 20 km\)"):
+        ggg.grow_region(town, town_grammar, REGION + [101000.0, 0.0])
     with pytest.raises(ValueError, match="tolerance"):
         ggg.derive(ggg.read_grammar(str(REPO / "samples" / "sierpinski.grammar.json")), tolerance=math.nan)
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 
@@ -244,11 +245,36 @@ GeometricGraph grow_region(const GeometricGraph& base, const Grammar& grammar, c
     }
     // No area: corners on a line, which a map projection bends by a hair (a region ten
     // thousand times as long as it is wide). A small region is not refused: nothing fits in it.
-    double extent = 0.0;
-    for (const Vec2& p : region) extent = std::max(extent, (p - region.front()).norm());
-    const double region_area = std::abs(area) / 2.0;
-    if (!(extent > 0) || !(region_area > 1e-4 * extent * extent)) {
-        throw UsageError("the region has no area (its corners lie on a line)");
+    // Asked first of the corners, then of the outline: a bow tie has no area either, but
+    // because it crosses itself.
+    std::size_t farthest = 0;
+    for (std::size_t i = 1; i < region.size(); ++i) {
+        if ((region[i] - region.front()).norm() > (region[farthest] - region.front()).norm()) farthest = i;
+    }
+    const Vec2 axis = region[farthest] - region.front();
+    const double extent = axis.norm();
+    double width = 0.0;
+    for (const Vec2& p : region) width = std::max(width, extent > 0 ? std::abs(cross(axis, p - region.front())) / extent : 0.0);
+    auto no_area = [] { return UsageError("the region has no area (its corners lie on a line)"); };
+    if (!(extent > 0) || !(width > 1e-4 * extent)) throw no_area();
+    if (const auto sides = first_self_crossing(region)) {
+        throw UsageError("the region crosses itself (its sides from corners " + std::to_string(sides->first + 1) + " and " +
+                         std::to_string(sides->second + 1) + " meet): a region is one outline that does not cross itself");
+    }
+    if (!(std::abs(area) / 2.0 > 1e-4 * extent * extent)) throw no_area();
+    // A region this far from every street of the base is not next to its city: most often
+    // coordinates of another place, or swapped. (The gap between the two boxes: never more than
+    // the distance to the nearest street.)
+    if (base.vertex_count() > 0) {
+        const auto city = bounds(base.positions.begin(), base.positions.end());
+        const auto box = bounds(region.begin(), region.end());
+        const Vec2 gap = (city.min() - box.max()).cwiseMax(box.min() - city.max()).cwiseMax(0.0);
+        if (gap.norm() > max_distance_from_base_m) {
+            char text[160];
+            std::snprintf(text, sizeof text, "the region is %.0f km from the streets of the base (at most %.0f km): check its coordinates",
+                          gap.norm() / 1000.0, max_distance_from_base_m / 1000.0);
+            throw UsageError(text);
+        }
     }
     check_options(options);
     GrowReport r;

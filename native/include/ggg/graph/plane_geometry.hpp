@@ -87,6 +87,36 @@ inline bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec
     return on(a, b, c) || on(a, b, d) || on(c, d, a) || on(c, d, b);
 }
 
+// Two sides of the polygon that cross or touch, other than neighbours at their shared corner
+// (indices of their first corners, the smaller first), or nothing for a simple polygon. Sides
+// are tested against those whose boxes overlap theirs, in order of their left ends, so a
+// region of many corners is checked in about n log n.
+inline std::optional<std::pair<std::size_t, std::size_t>> first_self_crossing(const std::vector<Vec2>& ring) {
+    const std::size_t n = ring.size();
+    if (n < 4) return std::nullopt; // a triangle cannot cross itself
+    auto a = [&](std::size_t i) -> const Vec2& { return ring[i]; };
+    auto b = [&](std::size_t i) -> const Vec2& { return ring[(i + 1) % n]; };
+    std::vector<std::size_t> order(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = i;
+    auto left = [&](std::size_t i) { return std::min(a(i).x(), b(i).x()); };
+    std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return left(i) < left(j); });
+    std::optional<std::pair<std::size_t, std::size_t>> found;
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = order[k];
+        const double right = std::max(a(i).x(), b(i).x());
+        const double low = std::min(a(i).y(), b(i).y()), high = std::max(a(i).y(), b(i).y());
+        for (std::size_t m = k + 1; m < n && left(order[m]) <= right; ++m) {
+            const std::size_t j = order[m];
+            if (std::min(a(j).y(), b(j).y()) > high || std::max(a(j).y(), b(j).y()) < low) continue;
+            if ((i + 1) % n == j || (j + 1) % n == i) continue; // neighbours share a corner
+            if (!segments_meet(a(i), b(i), a(j), b(j))) continue;
+            const std::pair<std::size_t, std::size_t> sides{std::min(i, j), std::max(i, j)};
+            if (!found || sides < *found) found = sides;
+        }
+    }
+    return found;
+}
+
 // The area of the block to the left of the street u -> v, walking round it by always taking
 // the sharpest left turn; 0 when the walk does not come back within `max_steps` streets (a
 // block too large to matter, or one that the streets known here do not close) or goes

@@ -168,10 +168,15 @@ struct GrowReport {
 // Throws UsageError naming the first option out of its range (NaN and infinities included).
 void check_options(const GrowOptions& options);
 
+// Growth continues a city: a region farther than this from every street of the base (metres)
+// is refused as misplaced.
+inline constexpr double max_distance_from_base_m = 20'000.0;
+
 // The base graph with the grown streets added (base vertices and edges keep their ids).
 // `region` is a simple polygon in the base graph's metres (not closed: the last point is not
-// a copy of the first). Throws UsageError for a region with fewer than three points or no
-// area, a grammar without rules, a placement of an unknown symbol, and GrammarError for a
+// a copy of the first). Throws UsageError for a region with fewer than three points, no area
+// or sides that cross, a region farther than max_distance_from_base_m from a base that has
+// streets, a grammar without rules, a placement of an unknown symbol, and GrammarError for a
 // malformed grammar.
 GeometricGraph grow_region(const GeometricGraph& base, const Grammar& grammar, const std::vector<Vec2>& region,
                            const GrowOptions& options = {}, GrowReport* report = nullptr,
