@@ -54,6 +54,7 @@ def subgraph(graph, keep_vertex, keep_edge=None):
     new_points = np.concatenate(lines) if lines else np.zeros((0, 2))
     return ggg.Graph.from_arrays(graph.positions[used], index[edges[kept]], graph.origin_latlon,
                                  edge_highway=np.asarray(graph.edge_highway)[kept],
+                                 edge_oneway=np.asarray(graph.edge_oneway)[kept],
                                  edge_geometry=(new_offsets, new_points)), index
 
 
@@ -141,7 +142,8 @@ def crosses_hole(graph, hole):
 def cut(graph, rect, keep_inside=False):
     """The graph cut along the rectangle as a knife would, keeping what is outside it (or with
     keep_inside what is inside): every street that crosses the border is cut there and keeps
-    its part on the kept side, which ends at the border. Returns the cut graph, per vertex of
+    its part on the kept side, which ends at the border (with its road class and one-way
+    direction). Returns the cut graph, per vertex of
     the graph its index there (-1 where not kept), and the vertices where the cut left a
     street's end."""
     p = graph.positions
@@ -152,8 +154,8 @@ def cut(graph, rect, keep_inside=False):
     index = np.full(graph.vertex_count, -1, dtype=np.int64)
     index[kept] = np.arange(int(kept.sum()))
     positions = list(p[kept])
-    new_edges, lines, classes, ends = [], [], [], []
-    highway = np.asarray(graph.edge_highway)
+    new_edges, lines, classes, ends, one_way = [], [], [], [], []
+    highway, oneway = np.asarray(graph.edge_highway), np.asarray(graph.edge_oneway)
     for e, (a, b) in enumerate(edges):
         line = points[offsets[e]:offsets[e + 1]]
         pieces = clip(line, rect, keep_inside)
@@ -161,6 +163,7 @@ def cut(graph, rect, keep_inside=False):
             new_edges.append((index[a], index[b]))
             lines.append(line)
             classes.append(highway[e])
+            one_way.append(oneway[e])
             continue
         for piece, starts, finishes in pieces:
             if starts == finishes:
@@ -171,9 +174,11 @@ def cut(graph, rect, keep_inside=False):
             new_edges.append((index[a], end) if starts else (end, index[b]))
             lines.append(piece)
             classes.append(highway[e])
+            one_way.append(oneway[e])  # each piece runs the way its street did
     new_offsets = np.concatenate([[0], np.cumsum([len(line) for line in lines])]).astype(np.int64)
     result = ggg.Graph.from_arrays(np.asarray(positions), np.asarray(new_edges, dtype=np.int64).reshape(-1, 2),
                                    graph.origin_latlon, edge_highway=np.asarray(classes),
+                                   edge_oneway=np.asarray(one_way, dtype=np.int64),
                                    edge_geometry=(new_offsets, np.concatenate(lines)))
     return result, index, np.asarray(ends, dtype=np.int64)
 
@@ -367,7 +372,7 @@ def measure(city, seeds):
             "crossings": crossings(grown, set(new_edges.tolist())),
             "shared_places": shared_places(grown) - shared_places(rest),
             "learn_s": learn_seconds, "grow_s": grow_seconds, "rules": stats["rules"],
-            "crossed": report["traced_crossed"],
+            "crossed": report["traced_crossed"], "roundabouts": report["roundabouts"],
         })
     return rows
 

@@ -165,7 +165,10 @@ const std::string& grow_region_doc() {
             "streets of `base` that reach it (or the region's middle). placements: rules placed by hand, (symbol, x, y, scale,\n"
             "rotation_deg) each (scale <= 0: the rule's learned size), grown from first. progress(fraction, message) may return\n"
             "False to cancel. Returns (Graph, report dict): the base with the grown streets after its own vertices and edges.\n"
-            "Deterministic for a seed. The options, keywords only (keyword = default: what it sets; `ggg grow`'s flags):\n";
+            "Deterministic for a seed. UsageError for a region that crosses itself, has no area, or lies more than " +
+            std::to_string(static_cast<int>(max_distance_from_base_m / 1000.0)) +
+            " km\nfrom every street of a base that has any. The options, keywords only (keyword = default: what it sets; `ggg "
+            "grow`'s\nflags):\n";
         const GrowOptions defaults;
         visit_grow_options(defaults, [&](std::string_view keyword, std::string_view flag, std::string_view help, const auto& field) {
             text += "  " + std::string(keyword) + " = " + std::string(py::str(py::repr(python_value(field)))) + ": " + std::string(help) +

@@ -3,14 +3,17 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <fstream>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "analysis_fixtures.hpp"
 #include "fixtures.hpp"
 #include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/error.hpp"
+#include "ggg/graph/planar_faces.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
 #include "ggg/io/reports.hpp"
@@ -76,6 +79,76 @@ const Town& town() {
 
 // East of the town, touching the streets that end at its east edge.
 std::vector<Vec2> east_of_town() { return {{700, -600}, {1500, -600}, {1500, 600}, {700, 600}}; }
+
+// A grid of 100 m blocks, 8 x 8 junctions, every third junction inside it a roundabout of
+// radius 12 m (four arcs, one-way anticlockwise when `one_way`), its streets on the east side
+// going on to x = 740, 20 m short of the region east of it (east_of_grid).
+GeometricGraph grid_with_roundabouts(bool one_way) {
+    GeometricGraph g;
+    constexpr int n = 8;
+    constexpr double block = 100.0, radius = 12.0;
+    const EdgeAttributes street{HighwayClass::residential};
+    EdgeAttributes ring = street;
+    ring.oneway = one_way ? 1 : 0;
+    std::map<std::pair<int, int>, std::array<VertexId, 4>> arm; // the vertex each way: east, north, west, south
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            const Vec2 c{block * i, block * j};
+            if ((i + j) % 3 != 0 || i == 0 || j == 0 || i == n - 1 || j == n - 1) {
+                const VertexId v = g.add_vertex(c);
+                arm[{i, j}] = {v, v, v, v};
+                continue;
+            }
+            std::array<VertexId, 4> on_ring{};
+            for (int k = 0; k < 4; ++k) on_ring[static_cast<std::size_t>(k)] = g.add_vertex(c + radius * Vec2(std::cos(k * M_PI / 2), std::sin(k * M_PI / 2)));
+            for (int k = 0; k < 4; ++k) {
+                std::vector<Vec2> arc;
+                for (int s = 0; s <= 6; ++s) {
+                    const double a = (k + s / 6.0) * M_PI / 2;
+                    arc.push_back(c + radius * Vec2(std::cos(a), std::sin(a)));
+                }
+                g.add_edge(on_ring[static_cast<std::size_t>(k)], on_ring[static_cast<std::size_t>((k + 1) % 4)], ring, arc);
+            }
+            arm[{i, j}] = on_ring;
+        }
+    }
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            if (i + 1 < n) g.add_edge(arm[{i, j}][0], arm[{i + 1, j}][2], street);
+            if (j + 1 < n) g.add_edge(arm[{i, j}][1], arm[{i, j + 1}][3], street);
+        }
+        const VertexId end = g.add_vertex({740.0, block * i});
+        g.add_edge(arm[{n - 1, i}][0], end, street);
+    }
+    return g;
+}
+
+std::vector<Vec2> east_of_grid() { return {{760, -100}, {1560, -100}, {1560, 800}, {760, 800}}; }
+
+// The round blocks of a graph with their centre in the region: (count, how many of them are
+// ringed by one-way streets driven one way round).
+std::pair<std::size_t, std::size_t> round_blocks(const GeometricGraph& g, const std::vector<Vec2>& region) {
+    const PlanarFaces faces = planar_faces(g);
+    std::size_t round = 0, one_way = 0;
+    for (std::size_t f = 0; f < faces.face_count(); ++f) {
+        double perimeter = 0.0;
+        Vec2 centre = Vec2::Zero();
+        std::set<int> directions;
+        const auto first = faces.face_edge_offsets[f], last = faces.face_edge_offsets[f + 1];
+        for (auto k = first; k < last; ++k) {
+            const auto e = static_cast<std::size_t>(faces.face_edges[static_cast<std::size_t>(k)]);
+            perimeter += g.edge_length(static_cast<EdgeId>(e));
+            centre += g.positions[static_cast<std::size_t>(g.edges[e][0])];
+            directions.insert(g.edge_oneway[e] * (faces.face_edge_reversed[static_cast<std::size_t>(k)] ? -1 : 1));
+        }
+        centre /= static_cast<double>(last - first);
+        const double area = faces.face_area[f];
+        if (!(area > 0) || 4 * M_PI * area < 0.9 * perimeter * perimeter || !inside(region, centre)) continue;
+        ++round;
+        one_way += directions.size() == 1 && *directions.begin() != 0;
+    }
+    return {round, one_way};
+}
 
 } // namespace
 
@@ -239,6 +312,44 @@ TEST(Growth, BadInputIsAClearError) {
     GrowOptions o;
     o.placements.push_back({999, {0, 0}, Frame{}});
     EXPECT_THROW(grow_region(t.graph, t.grammar, east_of_town(), o), Error);
+}
+
+TEST(Growth, JunctionsBecomeRoundaboutsAsOftenAsInTheBase) {
+    const std::vector<Vec2> region = east_of_grid();
+    for (const bool one_way : {true, false}) {
+        const GeometricGraph base = grid_with_roundabouts(one_way);
+        GrowReport report;
+        const GeometricGraph grown = grow_region(base, learn_grammar(base).grammar, region, {}, &report);
+        const auto [round, driven_round] = round_blocks(grown, region);
+        if (!one_way) {
+            // Round blocks with two-way streets round them are squares, not roundabouts.
+            EXPECT_EQ(report.roundabouts, 0u);
+            EXPECT_EQ(round, 0u);
+            continue;
+        }
+        // The base: 12 roundabouts and 52 other junctions. Grown junctions become roundabouts
+        // at that share (where there is room), each ringed by one-way arcs driven anticlockwise.
+        std::size_t junctions = report.roundabouts;
+        std::vector<std::size_t> degree(grown.vertex_count(), 0);
+        for (const auto& [a, b] : grown.edges) {
+            ++degree[static_cast<std::size_t>(a)];
+            ++degree[static_cast<std::size_t>(b)];
+        }
+        for (std::size_t v = base.vertex_count(); v < grown.vertex_count(); ++v) junctions += degree[v] >= 3;
+        junctions -= 3 * report.roundabouts; // the roundabouts' own ring vertices (three arms or more each)
+        EXPECT_GE(report.roundabouts, 3u) << junctions << " junctions";
+        EXPECT_LE(static_cast<double>(report.roundabouts), 12.0 / 64.0 * static_cast<double>(junctions) + 1.0);
+        EXPECT_EQ(round, report.roundabouts);
+        EXPECT_EQ(driven_round, report.roundabouts);
+        EXPECT_EQ(crossings(grown, base.edge_count()), 0u);
+        GrowOptions none;
+        none.roundabouts = false;
+        GrowReport without;
+        EXPECT_EQ(round_blocks(grow_region(base, learn_grammar(base).grammar, region, none, &without), region).first, 0u);
+        EXPECT_EQ(without.roundabouts, 0u);
+        for (std::size_t v = 0; v < base.vertex_count(); ++v) EXPECT_EQ(grown.positions[v], base.positions[v]);
+        for (std::size_t e = 0; e < base.edge_count(); ++e) EXPECT_EQ(grown.edges[e], base.edges[e]);
+    }
 }
 
 TEST(Growth, CommandLine) {

@@ -87,6 +87,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"closing_edges", r.closing_edges},
         {"t_junctions", r.t_junctions},
         {"pruned_stubs", r.pruned_stubs},
+        {"roundabouts", r.roundabouts},
         {"dissolved_vertices", r.dissolved_vertices},
         {"removed_crossing_streets", r.removed_crossing_streets},
         {"main_road_routes", r.main_road_routes},

@@ -27,6 +27,9 @@ using namespace spatial; // bg, bgi, Point, Box, point, RTree, VertexEntry, Edge
 
 GeometricGraph Grower::run(GrowReport& report) {
     report_ = &report;
+    // The base's roundabouts, which growth makes as often (a learned grammar keeps no one-way
+    // streets, by which they are told from small squares).
+    const growth_detail::CityRoundabouts base_roundabouts = o_.roundabouts ? growth_detail::roundabouts_of(g_, region_) : growth_detail::CityRoundabouts{};
     const std::vector<int> levels = rule_levels(grammar_);
     const int depth = levels.empty() ? 1 : *std::max_element(levels.begin(), levels.end());
     for (const Rule& r : grammar_.rules) {
@@ -149,6 +152,10 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.main_road_connectors = h.connectors;
         report.intersections = h.intersections;
         report.main_road_extensions = h.extensions;
+    }
+    // Last, once the main roads are continued: roundabouts are mostly where they meet.
+    if (o_.roundabouts) {
+        report.roundabouts = growth_detail::make_roundabouts(g_, base_vertices_, base_edges_, region_, base_roundabouts, rng_);
     }
     report.added_vertices = g_.vertex_count() - base_vertices_;
     report.added_edges = g_.edge_count() - base_edges_;

@@ -3,6 +3,7 @@
 // once everything is placed. Each takes the graph with the base first (base_vertices,
 // base_edges: what growth started from, never changed) and the grown streets after it.
 #include <cstddef>
+#include <random>
 #include <vector>
 
 #include "ggg/graph/geometric_graph.hpp"
@@ -27,5 +28,25 @@ std::size_t remove_crossing_streets(GeometricGraph& g, std::size_t base_vertices
 // A grown vertex where two grown streets of one class meet and nothing else is no junction:
 // the two become one street through it (a bend of its polyline). Returns how many went.
 std::size_t dissolve_bends(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges);
+
+// A city's roundabouts (growth_roundabouts.cpp): how many of the places where its streets meet
+// near the region are one, and the radius of each (sorted). Told by their one-way streets,
+// which a learned grammar does not keep: these are the base's.
+struct CityRoundabouts {
+    double share = 0.0;      // of the junctions of other streets
+    double main_share = 0.0; // of the junctions a main road meets
+    std::vector<double> radii_m;
+    int circulation = 1; // most are driven round anticlockwise (1, right-hand traffic) or clockwise (-1)
+};
+
+CityRoundabouts roundabouts_of(const GeometricGraph& city, const std::vector<Vec2>& region);
+
+// Grown junctions (of grown streets only, inside the region) made roundabouts as often as the
+// city's junctions are ones, each of the radius of one of the city's: the junction gives way to
+// a ring of one-way arcs that its streets meet. Where there is no room (another street within
+// half the radius of the ring, an arm too short, or two arms closer than 30 degrees) another
+// junction is tried. Returns how many were made.
+std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const std::vector<Vec2>& region,
+                             const CityRoundabouts& city, std::mt19937_64& rng);
 
 } // namespace ggg::growth_detail

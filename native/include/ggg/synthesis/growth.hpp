@@ -76,6 +76,9 @@ struct GrowOptions {
     // The streets that reach the region are first traced on into it, each new junction shaped
     // like one of the grammar's city's (street_tracing.hpp); rules then fill what is left.
     bool trace_streets = true;
+    // Grown junctions become roundabouts as often as the base's near the region are ones
+    // (street_cleanup.hpp).
+    bool roundabouts = true;
     std::vector<RulePlacement> placements; // rules placed by hand, grown from first
 };
 
@@ -114,6 +117,8 @@ void visit_grow_options(Options& o, Visit&& visit) {
           o.continue_hierarchy);
     visit("trace_streets", "--no-tracing", "Grow with rules alone: do not first trace the streets that reach the region on into it",
           o.trace_streets);
+    visit("roundabouts", "--no-roundabouts", "Make no roundabouts: keep every grown junction a junction, whatever the base's are",
+          o.roundabouts);
 }
 
 // What became of one rule placed by hand: placed, or why it did not fit (a rule that does
@@ -152,6 +157,7 @@ struct GrowReport {
     std::size_t closing_edges = 0;      // dead ends joined at the end to a vertex ahead
     std::size_t t_junctions = 0;        // dead ends joined at the end to a grown street ahead, split there
     std::size_t pruned_stubs = 0;       // grown dead-end streets cut off at the end: the short ones, and longer ones while the grown streets end in the open more often than the city's
+    std::size_t roundabouts = 0;        // grown junctions made roundabouts, as often as the city's junctions are ones
     std::size_t dissolved_vertices = 0; // grown vertices between two grown streets of one class (and nothing else), made bends of one street
     std::size_t removed_crossing_streets = 0; // grown streets taken out again because they crossed a street
     std::size_t main_road_routes = 0;   // main roads joined through the grown streets
