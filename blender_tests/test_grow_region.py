@@ -123,6 +123,9 @@ def test_grow_into_a_rectangle(town, ggg, reports, op_results, kind):
     rules, vertices, streets = counts_reported(message)
     assert (rules, vertices, streets) == (report["placements"], report["added_vertices"], report["added_edges"])
     assert "{} from the border".format(report["border_connections"]) in message and "seed 1" in message
+    # The town's roundabout makes roundabouts of some grown junctions, and the summary says so.
+    assert report["roundabouts"] >= 1
+    assert "; {} roundabout{};".format(report["roundabouts"], "" if report["roundabouts"] == 1 else "s") in message, message
 
     # In place: same object, name and mesh datablock; the base first, then the grown streets.
     assert town.name == "sample_city" and town.data == mesh and roads.surface_object(town) == surface_obj
@@ -347,6 +350,21 @@ def test_the_report_says_which_placed_rules_fitted(town, ggg):
     assert fits(far, [outside, (symbol, 6100.0, 0.0, 0.0, 0.0)]) == [False, True]
 
 
+def test_roundabouts_turned_off(town, ggg, reports, op_results):
+    # The sample town's old town has a roundabout (one-way, driven anticlockwise), so the
+    # district grown east of it gets some (test_grow_into_a_rectangle); turned off (the Grammar
+    # panel's Roundabouts), the same seed grows the same streets without them.
+    region_obj = mesh_region()
+    activate(town)
+    _plain, without = expected(ggg, town, RECTANGLE, seed=1, roundabouts=False)
+    assert without["roundabouts"] == 0 and without["added_vertices"] > 20
+    assert bpy.context.scene.road_grammar.region_roundabouts  # on by default
+    assert bpy.ops.roads.grow_region(region=region_obj.name, seed=1, roundabouts=False) == {'FINISHED'}
+    kind_, message = reports()[-1]
+    assert kind_ == 'INFO' and "roundabout" not in message, message
+    assert counts_reported(message)[1:] == (without["added_vertices"], without["added_edges"])
+
+
 # --- bad input ---------------------------------------------------------------------------------
 
 def _cancelled_with(call, kind, expected_text, reports, op_results):
@@ -498,12 +516,13 @@ def test_the_panel_button_takes_the_settings(town, ggg):
     region_obj = mesh_region()
     settings.region, settings.region_seed, settings.region_max_placements = region_obj, 7, 40
     settings.region_patience, settings.region_max_vertices, settings.region_use_placed = 60, 5000, False
+    settings.region_roundabouts = False
     labels, buttons = [], []
     grammar_ui.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Grow into Region" in labels
     grow = next(properties for idname, properties in buttons if idname == "roads.grow_region")
     assert grow == {"region": "Region", "seed": 7, "max_placements": 40, "patience": 60, "max_vertices": 5000,
-                    "use_placed_rules": False}
+                    "use_placed_rules": False, "roundabouts": False}
     assert bpy.ops.roads.grow_region(**grow) == {'FINISHED'}
     # The picker lists curves and meshes that are not part of a road graph.
     assert region.is_candidate(region_obj) and not region.is_candidate(town)

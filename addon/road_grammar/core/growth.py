@@ -46,7 +46,7 @@ class Grown:
 
 
 def grow_into_region(job, ggg, old, parsed, polygon, candidates, placements, seed, max_placements, max_vertices,
-                     patience):
+                     patience, roundabouts=True):
     """Grow into Region on the GraphColumns ``old`` (read from the road graph object) with the
     grammar ``parsed``, without Blender: the streets (the nonterminals left out) are the base,
     the ``placements`` of the nonterminals ``candidates`` that fit go first; a Grown.
@@ -61,7 +61,7 @@ def grow_into_region(job, ggg, old, parsed, polygon, candidates, placements, see
     base, base_ids, base_edge_ids = ggg.induced_subgraph(graph, streets)
     grown, report = ggg.grow_region(
         base, parsed, polygon, seed=seed, max_placements=max_placements, max_vertices=max_vertices,
-        patience=patience, placements=placements, progress=job.stage(0.02, 0.95))
+        patience=patience, placements=placements, roundabouts=roundabouts, progress=job.stage(0.02, 0.95))
     used = [vertex for vertex, fit in zip(candidates, fitted(report)) if fit]
     if report["added_vertices"] == 0:
         return Grown(report, used)

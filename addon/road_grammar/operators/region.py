@@ -135,10 +135,11 @@ class ROADS_OT_grow_region(GrowSettings, ModalJobOperator, Operator):
     max_vertices: grammar.region_max_vertices_property()
     patience: grammar.patience_property()
     use_placed_rules: grammar.use_placed_property()
+    roundabouts: grammar.roundabouts_property()
 
     _FROM_SETTINGS = {"seed": "region_seed", "max_placements": "region_max_placements",
                       "max_vertices": "region_max_vertices", "patience": "region_patience",
-                      "use_placed_rules": "region_use_placed"}
+                      "use_placed_rules": "region_use_placed", "roundabouts": "region_roundabouts"}
     _running = running
     _doing = "Growing"
     _noun = "the growth"
@@ -193,7 +194,7 @@ class ROADS_OT_grow_region(GrowSettings, ModalJobOperator, Operator):
         self._ggg, self._object_name, self._old = ggg, graph_obj.name, old
         self._placed = placements
         options = dict(seed=self.seed, max_placements=self.max_placements, max_vertices=self.max_vertices,
-                       patience=self.patience)
+                       patience=self.patience, roundabouts=self.roundabouts)
         self._job = StepsJob(ggg, lambda job: grow_into_region(job, ggg, old, parsed, polygon, candidates,
                                                                placements, **options), "road_grammar grow")
         self._job.start()
@@ -271,6 +272,8 @@ class ROADS_OT_grow_region(GrowSettings, ModalJobOperator, Operator):
             parts.append("{} continued through the new streets".format(plural(joined, "main road")))
         if report.get("main_road_extensions"):
             parts.append("{} led on to the new streets".format(plural(report["main_road_extensions"], "main road")))
+        if report.get("roundabouts"):
+            parts.append(plural(report["roundabouts"], "roundabout"))
         if placed:
             parts.append("{} grown".format(plural(placed, "placed rule")))
         if report["stopped_by_budget"]:

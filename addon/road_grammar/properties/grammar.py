@@ -165,6 +165,15 @@ def use_placed_property():
     )
 
 
+def roundabouts_property():
+    return BoolProperty(
+        name="Roundabouts",
+        description="Make grown junctions roundabouts as often as the road graph's junctions near the region are "
+        "ones (rings of one-way streets driven one way round). Off: every grown junction stays a junction",
+        default=True,
+    )
+
+
 DEFAULT_STITCH_SHARE = 0.5
 
 
@@ -230,6 +239,7 @@ class ROADS_PG_grammar(PropertyGroup):
     region_max_vertices: region_max_vertices_property()
     region_patience: patience_property()
     region_use_placed: use_placed_property()
+    region_roundabouts: roundabouts_property()
     stitch_share: share_property()
 
 

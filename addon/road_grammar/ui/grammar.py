@@ -99,6 +99,7 @@ class VIEW3D_PT_roads_grammar(RoadsTab, Panel):
         col.prop(settings, "region_patience")
         col.prop(settings, "region_max_vertices")
         box.prop(settings, "region_use_placed")
+        box.prop(settings, "region_roundabouts")
         if not job_progress(box, ROADS_OT_grow_region, graph):
             row = box.row()
             row.enabled = graph is not None
