@@ -504,6 +504,7 @@ def test_the_panel_box(towns, ggg):
     settings = bpy.context.scene.road_grammar
     settings.region, settings.region_seed, settings.region_max_placements = region_obj, 5, 90
     settings.stitch_share = 0.25
+    settings.region_roundabouts = False
     labels, buttons = [], []
     grammar_ui.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)
     assert "Stitch Cities" in labels
@@ -512,7 +513,7 @@ def test_the_panel_box(towns, ggg):
     assert "sample_city.001 is joined into sample_city" in labels
     stitch = next(properties for idname, properties in buttons if idname == "roads.stitch_cities")
     assert stitch["region"] == "Gap" and stitch["seed"] == 5 and stitch["max_placements"] == 90
-    assert stitch["share"] == pytest.approx(0.25)
+    assert stitch["share"] == pytest.approx(0.25) and stitch["roundabouts"] is False
     assert bpy.ops.roads.stitch_cities(**stitch) == {'FINISHED'}
     labels.clear()
     grammar_ui.VIEW3D_PT_roads_grammar.draw(SimpleNamespace(layout=PanelLayout(labels, buttons)), bpy.context)

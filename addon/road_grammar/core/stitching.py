@@ -52,7 +52,7 @@ def _placements(old, notes, text_name, parsed, use_placed_rules):
 
 
 def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements, max_vertices, patience,
-           use_placed_rules):
+           use_placed_rules, roundabouts=True):
     """Stitch the City ``second`` (brought into ``first``'s frame by the 4x4 ``matrix``) to the
     City ``first`` across the region ``polygon``; a Stitched.
 
@@ -99,7 +99,7 @@ def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements
             grown, first_placed = ggg.grow_region(
                 grown, parsed, polygon, seed=seed + 1, max_placements=len(placements),
                 max_vertices=max_vertices, patience=0, placements=placements, continue_hierarchy=False,
-                trace_streets=False, progress=job.stage(0.02, 0.05, text))
+                trace_streets=False, roundabouts=roundabouts, progress=job.stage(0.02, 0.05, text))
             fits = fitted(first_placed)
             used.extend(vertex for vertex, fit in zip(candidates, fits) if fit)
             left += fits.count(False)
@@ -109,7 +109,7 @@ def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements
     # left.
     grown, out.traced = ggg.grow_region(
         grown, parsed_a, polygon, seed=seed, patience=0, max_vertices=max_vertices, continue_hierarchy=False,
-        progress=job.stage(0.05, 0.3, "both cities"))
+        roundabouts=roundabouts, progress=job.stage(0.05, 0.3, "both cities"))
     for text, parsed, pass_seed, shared, (low, high) in passes:
         fitting = placed.pop(text, [])
         candidates = candidates_of.get(text, []) if fitting else []
@@ -118,7 +118,7 @@ def stitch(job, ggg, first, second, matrix, polygon, seed, share, max_placements
             return ggg.grow_region(
                 grown, parsed, polygon, seed=pass_seed, max_placements=limit, max_vertices=max_vertices,
                 patience=patience, placements=fitting, continue_hierarchy=False, trace_streets=False,
-                progress=job.stage(low, high, text))
+                roundabouts=roundabouts, progress=job.stage(low, high, text))
 
         middle = (low + high) / 2.0 if shared else high
         result = grow(max_placements, low, middle)

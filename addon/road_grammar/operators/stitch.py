@@ -61,10 +61,11 @@ class ROADS_OT_stitch_cities(GrowSettings, ModalJobOperator, Operator):
     max_vertices: grammar.region_max_vertices_property()
     patience: grammar.patience_property()
     use_placed_rules: grammar.use_placed_property()
+    roundabouts: grammar.roundabouts_property()
 
     _FROM_SETTINGS = {"share": "stitch_share", "seed": "region_seed", "max_placements": "region_max_placements",
                       "max_vertices": "region_max_vertices", "patience": "region_patience",
-                      "use_placed_rules": "region_use_placed"}
+                      "use_placed_rules": "region_use_placed", "roundabouts": "region_roundabouts"}
 
     _OBJECTS = ("other", "region")
     _running = running
@@ -166,7 +167,7 @@ class ROADS_OT_stitch_cities(GrowSettings, ModalJobOperator, Operator):
         second_city = City(old_b, name_b, parsed_b, graph_edit.noted_grammars(other, old_b, name_b or ""))
         options = dict(seed=self.seed, share=self.share, max_placements=self.max_placements,
                        max_vertices=self.max_vertices, patience=self.patience,
-                       use_placed_rules=self.use_placed_rules)
+                       use_placed_rules=self.use_placed_rules, roundabouts=self.roundabouts)
         self._ggg, self._object_name = ggg, active.name
         self._job = StepsJob(ggg, lambda job: stitch(job, ggg, first, second_city, matrix, polygon, **options),
                              "road_grammar stitch")
