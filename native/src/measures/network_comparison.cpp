@@ -45,22 +45,6 @@ double kolmogorov_smirnov(const std::vector<double>& a, const std::vector<double
     return gap;
 }
 
-// The direction in which edge `e` leaves vertex `v`: towards the point 20 m along its
-// polyline (or half-way along a shorter one), so that a kink at the junction does not count.
-Vec2 leaving_direction(const GeometricGraph& g, EdgeId e, VertexId v) {
-    const Vec2* p = g.geometry_begin(e);
-    const std::size_t n = g.geometry_size(e);
-    std::vector<Vec2> line(p, p + n);
-    if (g.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
-    const double reach = std::min(20.0, 0.5 * g.edge_length(e));
-    double walked = 0.0;
-    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-        const double step = (line[i + 1] - line[i]).norm();
-        if (walked + step >= reach && step > 0) return line[i] + (line[i + 1] - line[i]) * ((reach - walked) / step) - line[0];
-        walked += step;
-    }
-    return line.back() - line.front();
-}
 
 void junction_structure(const GeometricGraph& g, const Adjacency& adj, StreetStatistics& s) {
     std::size_t through = 0, right = 0;
@@ -132,6 +116,21 @@ double circuity(const GeometricGraph& g, const Adjacency& adj) {
 }
 
 } // namespace
+
+Vec2 leaving_direction(const GeometricGraph& g, EdgeId e, VertexId v) {
+    const Vec2* p = g.geometry_begin(e);
+    const std::size_t n = g.geometry_size(e);
+    std::vector<Vec2> line(p, p + n);
+    if (g.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
+    const double reach = std::min(20.0, 0.5 * g.edge_length(e));
+    double walked = 0.0;
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+        const double step = (line[i + 1] - line[i]).norm();
+        if (walked + step >= reach && step > 0) return line[i] + (line[i + 1] - line[i]) * ((reach - walked) / step) - line[0];
+        walked += step;
+    }
+    return line.back() - line.front();
+}
 
 StreetStatistics street_statistics(const GeometricGraph& g) {
     StreetStatistics s;

@@ -11,6 +11,7 @@
 #include "ggg/graph/plane_geometry.hpp"
 #include "ggg/graph/road_class.hpp"
 #include "ggg/graph/spatial_index.hpp"
+#include "ggg/measures/network_comparison.hpp"
 #include "street_cleanup.hpp"
 
 namespace ggg::growth_detail {
@@ -40,22 +41,6 @@ std::vector<std::size_t> degrees(const GeometricGraph& g) {
         ++degree[static_cast<std::size_t>(b)];
     }
     return degree;
-}
-
-// The point of edge e 20 m from its end v, or half way along it (where the junction angles of
-// `ggg compare` are measured).
-Vec2 leaving(const GeometricGraph& g, EdgeId e, VertexId v) {
-    const Vec2* p = g.geometry_begin(e);
-    std::vector<Vec2> line(p, p + g.geometry_size(e));
-    if (g.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
-    const double reach = std::min(20.0, 0.5 * g.edge_length(e));
-    double walked = 0.0;
-    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-        const double step = (line[i + 1] - line[i]).norm();
-        if (walked + step >= reach && step > 0) return line[i] + (line[i + 1] - line[i]) * ((reach - walked) / step);
-        walked += step;
-    }
-    return line.back();
 }
 
 // The point where the polyline, from its first point (the centre), first leaves the circle of
@@ -198,7 +183,7 @@ std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::
     for (const VertexId v : junctions) {
         std::vector<double> bearings;
         for (const EdgeId e : at[static_cast<std::size_t>(v)]) {
-            const Vec2 d = leaving(g, e, v) - g.positions[static_cast<std::size_t>(v)];
+            const Vec2 d = leaving_direction(g, e, v); // as `ggg compare` measures the angles
             bearings.push_back(std::atan2(d.y(), d.x()));
         }
         std::sort(bearings.begin(), bearings.end());

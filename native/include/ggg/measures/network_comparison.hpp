@@ -23,6 +23,11 @@
 
 namespace ggg {
 
+// The direction in which edge `e` leaves vertex `v`, as the junction angles are measured:
+// towards the point 20 m along its polyline (or half-way along a shorter one), so that a kink
+// at the junction does not count.
+Vec2 leaving_direction(const GeometricGraph& g, EdgeId e, VertexId v);
+
 struct StreetStatistics {
     std::size_t vertices = 0;
     std::size_t edges = 0;
