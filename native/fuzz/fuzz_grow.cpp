@@ -1,6 +1,7 @@
 // Growth into a region (ggg::grow_region) over a fuzzed base and region: any graph that
 // ggg.Graph.from_arrays accepts (vertices anywhere, several at one place, streets that cross,
-// any road class), any region of three to eight points, a few options, and a grammar learned
+// any road class), sometimes with a roundabout (a ring of one-way arcs, streets from it into the
+// base), any region of three to eight points, a few options, and a grammar learned
 // from a small grid or from the fuzzed base itself. Growth may refuse with a ggg::Error;
 // otherwise the base keeps its vertices and edges, every position is finite and the graph
 // stays simple.
@@ -61,6 +62,29 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         // As Graph.from_arrays: no loops, no edge twice.
         if (u == v || !seen.insert({std::min(u, v), std::max(u, v)}).second) continue;
         base.add_edge(u, v, ggg::EdgeAttributes{highway});
+    }
+    // Sometimes a roundabout too: a ring of one-way arcs with a street from each of its
+    // vertices to a vertex of the base, so that growth makes roundabouts of its own.
+    if (in.ConsumeBool()) {
+        const ggg::Vec2 centre{in.ConsumeIntegral<std::int8_t>() * unit, in.ConsumeIntegral<std::int8_t>() * unit};
+        const double radius = in.ConsumeIntegralInRange<int>(5, 40);
+        const int ring = in.ConsumeIntegralInRange<int>(3, 8);
+        ggg::EdgeAttributes arc{ggg::HighwayClass::tertiary};
+        arc.oneway = in.ConsumeBool() ? 1 : -1;
+        const auto first = static_cast<ggg::VertexId>(base.vertex_count());
+        for (int k = 0; k < ring; ++k) {
+            base.add_vertex(centre + radius * ggg::Vec2(std::cos(2 * M_PI * k / ring), std::sin(2 * M_PI * k / ring)));
+        }
+        for (int k = 0; k < ring; ++k) {
+            std::vector<ggg::Vec2> line;
+            for (int s = 0; s <= 4; ++s) {
+                const double a = 2 * M_PI * (k + s / 4.0) / ring;
+                line.push_back(centre + radius * ggg::Vec2(std::cos(a), std::sin(a)));
+            }
+            base.add_edge(first + k, first + (k + 1) % ring, arc, line);
+            const int to = in.ConsumeIntegralInRange<int>(0, vertices - 1);
+            base.add_edge(first + k, to, ggg::EdgeAttributes{ggg::HighwayClass::residential});
+        }
     }
     std::vector<ggg::Vec2> region;
     const int corners = in.ConsumeIntegralInRange<int>(3, 8);
