@@ -77,6 +77,7 @@ status=0
 for h in "${harnesses[@]}"; do
   mkdir -p "$corpus/$h" "$findings/$h"
   log=$findings/$h.log
+  before=$(find "$corpus/$h" -type f | wc -l)
   options=(-rss_limit_mb=2048 -timeout=10 -max_len="${max_len[$h]}" -print_final_stats=1
            -artifact_prefix="$findings/$h/" -runs="$runs")
   [ -n "${dict[$h]}" ] && options+=(-dict="$root/native/fuzz/${dict[$h]}")
@@ -97,6 +98,11 @@ for h in "${harnesses[@]}"; do
   printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$(date -I)" "$h" "${execs:-?}" "$elapsed" "${cov:-?}" "${ft:-?}" \
     "$files" "$found" "$rc" >> "$findings/summary.tsv"
   echo "fuzz.sh: $h: ${execs:-?} executions in ${elapsed} s, cov ${cov:-?} ft ${ft:-?}, $found finding(s) so far, exit $rc"
+  # libFuzzer reads the whole corpus before it tries anything new and looks at the time only
+  # after: a run no longer than that has fuzzed nothing.
+  if [ -n "$execs" ] && [ "$execs" -le $((before + 1)) ] && [ "$rc" = 0 ]; then
+    echo "fuzz.sh: $h: only the $before inputs of its corpus were run (reading them took longer than --seconds): give it more time" >&2
+  fi
   [ "$rc" = 0 ] || status=1
 done
 exit $status
