@@ -5,6 +5,7 @@
 #include <iterator>
 #include <limits>
 #include <optional>
+#include <span>
 #include <utility>
 
 #include "ggg/graph/planar_faces.hpp"
@@ -34,15 +35,6 @@ constexpr std::size_t min_junctions_to_say = 300;
 // with a main road (motorway to tertiary, and their links) and for the others.
 bool main_road(HighwayClass c) { return highway_rank(c) <= highway_rank(HighwayClass::tertiary_link); }
 
-std::vector<std::size_t> degrees(const GeometricGraph& g) {
-    std::vector<std::size_t> degree(g.vertex_count(), 0);
-    for (const auto& [a, b] : g.edges) {
-        ++degree[static_cast<std::size_t>(a)];
-        ++degree[static_cast<std::size_t>(b)];
-    }
-    return degree;
-}
-
 // The point where the polyline, from its first point (the centre), first leaves the circle of
 // radius r around it: (index of the piece, point). None when it never does.
 std::optional<std::pair<std::size_t, Vec2>> leaving_circle(const std::vector<Vec2>& line, double r) {
@@ -65,7 +57,8 @@ std::optional<std::pair<std::size_t, Vec2>> leaving_circle(const std::vector<Vec
 CityRoundabouts roundabouts_of(const GeometricGraph& city, const std::vector<Vec2>& region) {
     CityRoundabouts out;
     if (city.edge_count() == 0) return out;
-    const std::vector<std::size_t> degree = degrees(city);
+    const Adjacency adjacency(city);
+    auto degree = [&](std::size_t v) { return adjacency.degree(static_cast<VertexId>(v)); };
     std::vector<char> main_at(city.vertex_count(), 0); // a main road meets there
     for (std::size_t e = 0; e < city.edge_count(); ++e) {
         if (!main_road(city.edge_highway[e])) continue;
@@ -98,7 +91,7 @@ CityRoundabouts roundabouts_of(const GeometricGraph& city, const std::vector<Vec
         if (!circulates || radius < min_radius_m || radius > max_radius_m) continue;
         if (4 * M_PI * area < min_roundness * perimeter * perimeter) continue;
         std::size_t arms = 0;
-        for (const VertexId v : ring) arms += degree[static_cast<std::size_t>(v)] >= 3;
+        for (const VertexId v : ring) arms += degree(static_cast<std::size_t>(v)) >= 3;
         if (arms < min_arms) continue;
         Vec2 centre = Vec2::Zero();
         bool main = false;
@@ -120,7 +113,7 @@ CityRoundabouts roundabouts_of(const GeometricGraph& city, const std::vector<Vec
     std::vector<double> junction_distance, roundabout_distance;
     std::vector<char> junction_main;
     for (std::size_t v = 0; v < city.vertex_count(); ++v) {
-        if (degree[v] < 3 || on_ring[v]) continue;
+        if (degree(v) < 3 || on_ring[v]) continue;
         junction_distance.push_back(distance(city.positions[v]));
         junction_main.push_back(main_at[v]);
     }
@@ -154,16 +147,16 @@ std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::
                              const CityRoundabouts& city, std::mt19937_64& rng) {
     if (city.radii_m.empty() || g.vertex_count() <= base_vertices) return 0;
     const std::size_t n = g.vertex_count();
-    std::vector<std::vector<EdgeId>> at(n);
-    for (std::size_t e = 0; e < g.edge_count(); ++e) {
-        at[static_cast<std::size_t>(g.edges[e][0])].push_back(static_cast<EdgeId>(e));
-        at[static_cast<std::size_t>(g.edges[e][1])].push_back(static_cast<EdgeId>(e));
-    }
+    const Adjacency adjacency(g); // of the graph as it was: roundabouts only add vertices after it
+    auto at = [&](std::size_t v) {
+        const auto from = static_cast<std::size_t>(adjacency.offsets[v]);
+        return std::span<const EdgeId>(adjacency.edge_ids.data() + from, adjacency.degree(static_cast<VertexId>(v)));
+    };
     // Grown junctions of grown streets only: the base is never changed.
     std::vector<VertexId> junctions;
     double expected = 0.0;
     for (std::size_t v = base_vertices; v < n; ++v) {
-        const auto& es = at[v];
+        const auto es = at(v);
         if (es.size() < min_arms || es.size() > 5) continue;
         if (std::any_of(es.begin(), es.end(), [&](EdgeId e) { return static_cast<std::size_t>(e) < base_edges; })) continue;
         junctions.push_back(static_cast<VertexId>(v));
@@ -182,7 +175,7 @@ std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::
     std::vector<int> order(n, 0);
     for (const VertexId v : junctions) {
         std::vector<double> bearings;
-        for (const EdgeId e : at[static_cast<std::size_t>(v)]) {
+        for (const EdgeId e : at(static_cast<std::size_t>(v))) {
             const Vec2 d = leaving_direction(g, e, v); // as `ggg compare` measures the angles
             bearings.push_back(std::atan2(d.y(), d.x()));
         }
@@ -218,7 +211,7 @@ std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::
         const double margin = 0.5 * r;
         if (!inside(region, c) || distance_to_ring(region, c) < r + margin) continue;
         if (std::any_of(made.begin(), made.end(), [&](const auto& m) { return (m.first - c).norm() < m.second + r + 2 * margin; })) continue;
-        const auto& es = at[static_cast<std::size_t>(v)];
+        const auto es = at(static_cast<std::size_t>(v));
         if (std::any_of(es.begin(), es.end(), [&](EdgeId e) { return replaced_edge[static_cast<std::size_t>(e)] != 0; })) continue;
         bool clear = true;
         for (auto it = pieces.qbegin(bgi::intersects(around(c, r + margin))); it != pieces.qend() && clear; ++it) {
