@@ -247,9 +247,17 @@ def crossings(graph, new_edges):
             t = ((r[:, 0] - p[0]) * d2[:, 1] - (r[:, 1] - p[1]) * d2[:, 0]) / denominator
             u = ((r[:, 0] - p[0]) * d1[1] - (r[:, 1] - p[1]) * d1[0]) / denominator
         hit = ok & (t > 1e-6) & (t < 1 - 1e-6) & (u > 1e-6) & (u < 1 - 1e-6)
-        for f in f_ids[idx[hit]]:
+        positions = graph.positions
+        for f, r_, s2 in zip(f_ids[idx[hit]], r[hit], s_[hit]):
             f = int(f)
-            if (f in new_edges and f < e) or set(edges[e]) & set(edges[f]):
+            if f in new_edges and f < e:
+                continue
+            # Two streets from one junction meet there: their pieces at it meet nowhere else
+            # (two straight pieces meet once), though almost straight on from each other
+            # their meeting is found a little off it. Further along they must not meet.
+            at_shared = [positions[v] for v in set(edges[e]) & set(edges[f])]
+            if any(min(np.linalg.norm(p - x), np.linalg.norm(q - x)) < 1e-9 and min(np.linalg.norm(r_ - x), np.linalg.norm(s2 - x)) < 1e-9
+                   for x in at_shared):
                 continue
             found.add((min(e, f), max(e, f)))
     return len(found)

@@ -345,8 +345,10 @@ TEST(StreetHierarchy, MainRoadsOfColumbusMeetAcrossAGrownStrip) {
     GrowOptions o;
     o.seed = 3;
     // The hierarchy on streets grown from rules alone: traced streets (street_tracing.hpp)
-    // continue the main roads themselves, as main roads.
+    // continue the main roads themselves, as main roads. (Streets split after it would not
+    // be split before it.)
     o.trace_streets = false;
+    o.split_streets = false;
     const std::vector<Vec2> strip{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
     const GeometricGraph grown = grow_region(base, grammar, strip, o, &report);
     ASSERT_GT(report.placements + report.traced_streets, 20u);

@@ -89,6 +89,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"pruned_stubs", r.pruned_stubs},
         {"roundabouts", r.roundabouts},
         {"dissolved_vertices", r.dissolved_vertices},
+        {"split_vertices", r.split_vertices},
         {"removed_crossing_streets", r.removed_crossing_streets},
         {"main_road_routes", r.main_road_routes},
         {"raised_streets", r.raised_streets},

@@ -76,6 +76,8 @@ GeometricGraph Grower::run(GrowReport& report) {
     centre_ /= static_cast<double>(region_.size());
     double size = 0.0;
     for (const Vec2& p : region_) size = std::max(size, (p - centre_).norm());
+    // Measured on the base before anything is grown on it.
+    const growth_detail::CityBends city_bends = growth_detail::bends_of(g_, centre_, 2.0 * size);
     const double border = o_.border_m >= 0 ? o_.border_m : 0.05 * size;
 
     for (const RulePlacement& placed : o_.placements) place_by_hand(placed);
@@ -110,6 +112,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_across = traced.across;
         report.traced_crossed = traced.crossed;
         street_density_ = traced.density;
+        junction_density_ = traced.junction_density;
         density_radius_ = 2.0 * traced.typical_m;
         if (traced.streets > 0) reindex();
         if (g_.vertex_count() >= o_.max_vertices) report.stopped_by_budget = true;
@@ -157,6 +160,10 @@ GeometricGraph Grower::run(GrowReport& report) {
     if (o_.roundabouts) {
         report.roundabouts = growth_detail::make_roundabouts(g_, base_vertices_, base_edges_, region_, base_roundabouts, rng_);
     }
+    // The last guard again, for what the main roads and roundabouts laid across what was there.
+    report.removed_crossing_streets += growth_detail::remove_crossing_streets(g_, base_vertices_, base_edges_);
+    // Last of all, the grown streets split as often as the base's streets around the region are.
+    if (o_.split_streets) report.split_vertices = growth_detail::split_streets(g_, base_vertices_, base_edges_, city_bends, rng_);
     report.added_vertices = g_.vertex_count() - base_vertices_;
     report.added_edges = g_.edge_count() - base_edges_;
     ggg::report(progress_, 1.0, "done");

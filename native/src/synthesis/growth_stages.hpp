@@ -181,6 +181,7 @@ private:
     // The city's metres of street per square metre next to the region, as tracing measured it,
     // and the radius of the disc a placement is held to it in (0: no cap).
     double street_density_ = 0.0;
+    double junction_density_ = 0.0;
     double density_radius_ = 0.0;
 };
 

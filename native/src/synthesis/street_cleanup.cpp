@@ -2,6 +2,7 @@
 #include "street_cleanup.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "ggg/graph/plane_geometry.hpp"
@@ -66,10 +67,20 @@ std::size_t remove_crossing_streets(GeometricGraph& g, std::size_t base_vertices
                 const auto [f, k] = piece_of[static_cast<std::size_t>(it->second)];
                 if (f == e || drop_edge[f] || (f > e)) continue; // each pair once: the newer one goes
                 const auto [a, b] = g.edges[f];
-                if (a == u || a == v || b == u || b == v) continue;
                 const Vec2* q = g.geometry_begin(static_cast<EdgeId>(f));
                 const auto m = segment_meeting(p[i], p[i + 1], q[k], q[k + 1]);
                 crossing = m && m->first > 1e-9 && m->first < 1 - 1e-9 && m->second > 1e-9 && m->second < 1 - 1e-9;
+                // Two streets from one junction meet there, and their pieces at it nowhere
+                // else (two straight pieces meet once; almost straight on from each other,
+                // their meeting is found a little off it). Further along they must not meet.
+                if (crossing) {
+                    const std::size_t last_e = g.geometry_size(static_cast<EdgeId>(e)) - 2, last_f = g.geometry_size(static_cast<EdgeId>(f)) - 2;
+                    for (const VertexId shared : {a, b}) {
+                        const bool piece_e_at = (i == 0 && u == shared) || (i == last_e && v == shared);
+                        const bool piece_f_at = (k == 0 && a == shared) || (k == last_f && b == shared);
+                        if (piece_e_at && piece_f_at) crossing = false;
+                    }
+                }
             }
         }
         if (crossing) {
@@ -187,6 +198,129 @@ std::size_t dissolve_bends(GeometricGraph& g, std::size_t base_vertices, std::si
     if (dropped == 0) return 0;
     g = rebuilt(g, drop, streets);
     return dropped;
+}
+
+CityBends bends_of(const GeometricGraph& base, const Vec2& centre, double radius) {
+    std::vector<int> degree(base.vertex_count(), 0);
+    for (const auto& [a, b] : base.edges) {
+        if (a == b) continue;
+        ++degree[static_cast<std::size_t>(a)];
+        ++degree[static_cast<std::size_t>(b)];
+    }
+    std::size_t vertices = 0, bends = 0;
+    for (std::size_t v = 0; v < base.vertex_count(); ++v) {
+        if (degree[v] == 0 || (base.positions[v] - centre).norm() > radius) continue;
+        ++vertices;
+        bends += degree[v] == 2;
+    }
+    std::vector<double> lengths;
+    for (const auto& [a, b] : base.edges) {
+        const Vec2 pa = base.positions[static_cast<std::size_t>(a)], pb = base.positions[static_cast<std::size_t>(b)];
+        if ((pa - centre).norm() <= radius) lengths.push_back((pb - pa).norm());
+    }
+    CityBends city;
+    // Too few to say: no splits.
+    if (vertices < 50 || lengths.empty()) return city;
+    city.share = static_cast<double>(bends) / static_cast<double>(vertices);
+    const auto tenth = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 10);
+    std::nth_element(lengths.begin(), tenth, lengths.end());
+    city.short_edge_m = *tenth;
+    return city;
+}
+
+namespace {
+
+// Whether the polyline p[0..n) neither crosses nor folds back onto itself: split there, its
+// two pieces would cross each other.
+bool simple_line(const Vec2* p, std::size_t n) {
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+        if (i + 2 < n && (p[i + 1] - p[i]).dot(p[i + 2] - p[i + 1]) < -0.99 * (p[i + 1] - p[i]).norm() * (p[i + 2] - p[i + 1]).norm()) return false;
+        for (std::size_t j = i + 2; j + 1 < n; ++j) {
+            if (segments_meet(p[i], p[i + 1], p[j], p[j + 1])) return false;
+        }
+    }
+    return true;
+}
+
+} // namespace
+
+std::size_t split_streets(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const CityBends& bends,
+                          std::mt19937_64& rng) {
+    if (bends.share <= 0.0 || bends.share >= 0.95 || bends.short_edge_m <= 0.0) return 0;
+    std::vector<int> degree(g.vertex_count(), 0);
+    for (const auto& [a, b] : g.edges) ++degree[static_cast<std::size_t>(a)], ++degree[static_cast<std::size_t>(b)];
+    std::size_t grown = 0, two = 0;
+    for (std::size_t v = base_vertices; v < g.vertex_count(); ++v) {
+        grown += degree[v] > 0;
+        two += degree[v] == 2;
+    }
+    // (two + k) / (grown + k) = share
+    const double missing = (bends.share * static_cast<double>(grown) - static_cast<double>(two)) / (1.0 - bends.share);
+    if (missing < 1.0) return 0;
+    const auto wanted = static_cast<std::size_t>(std::lround(missing));
+    // The grown streets by length, and the points along each where it is split (arc lengths).
+    std::vector<double> length(g.edge_count(), 0.0), cumulative;
+    std::vector<EdgeId> candidates;
+    double total = 0.0;
+    for (std::size_t e = base_edges; e < g.edge_count(); ++e) {
+        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
+        for (std::size_t k = 0; k + 1 < g.geometry_size(static_cast<EdgeId>(e)); ++k) length[e] += (p[k + 1] - p[k]).norm();
+        if (length[e] < 2.0 * bends.short_edge_m || !simple_line(p, g.geometry_size(static_cast<EdgeId>(e)))) continue;
+        candidates.push_back(static_cast<EdgeId>(e));
+        total += length[e];
+        cumulative.push_back(total);
+    }
+    if (candidates.empty()) return 0;
+    std::vector<std::vector<double>> at(g.edge_count());
+    const double gap = bends.short_edge_m;
+    std::size_t made = 0;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (std::size_t attempt = 0; made < wanted && attempt < 20 * wanted; ++attempt) {
+        const auto pick = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), unit(rng) * total) - cumulative.begin());
+        const auto e = static_cast<std::size_t>(candidates[std::min(pick, candidates.size() - 1)]);
+        const double s = gap + unit(rng) * (length[e] - 2.0 * gap);
+        auto& points = at[e];
+        if (std::any_of(points.begin(), points.end(), [&](double q) { return std::abs(q - s) < gap; })) continue;
+        points.push_back(s);
+        ++made;
+    }
+    if (made == 0) return 0;
+    // The graph again: each split street in pieces, with a vertex at each split.
+    std::vector<Street> streets;
+    streets.reserve(g.edge_count() + made);
+    const std::size_t edges = g.edge_count();
+    for (std::size_t e = 0; e < edges; ++e) {
+        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
+        const std::size_t n = g.geometry_size(static_cast<EdgeId>(e));
+        auto& points = at[e];
+        if (points.empty()) {
+            streets.push_back({g.edges[e][0], g.edges[e][1], g.edge_attributes(static_cast<EdgeId>(e)), std::vector<Vec2>(p, p + n)});
+            continue;
+        }
+        std::sort(points.begin(), points.end());
+        const EdgeAttributes attributes = g.edge_attributes(static_cast<EdgeId>(e));
+        VertexId from = g.edges[e][0];
+        std::vector<Vec2> piece{p[0]};
+        double walked = 0.0;
+        std::size_t next = 0;
+        for (std::size_t k = 0; k + 1 < n; ++k) {
+            const double step = (p[k + 1] - p[k]).norm();
+            while (next < points.size() && points[next] <= walked + step) {
+                const Vec2 x = p[k] + (step > 0.0 ? (points[next] - walked) / step : 0.0) * (p[k + 1] - p[k]);
+                piece.push_back(x);
+                const VertexId v = g.add_vertex(x);
+                streets.push_back({from, v, attributes, std::move(piece)});
+                from = v;
+                piece = {x};
+                ++next;
+            }
+            walked += step;
+            piece.push_back(p[k + 1]);
+        }
+        streets.push_back({from, g.edges[e][1], attributes, std::move(piece)});
+    }
+    g = rebuilt(g, std::vector<char>(g.vertex_count(), 0), streets);
+    return made;
 }
 
 } // namespace ggg::growth_detail

@@ -49,4 +49,21 @@ CityRoundabouts roundabouts_of(const GeometricGraph& city, const std::vector<Vec
 std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const std::vector<Vec2>& region,
                              const CityRoundabouts& city, std::mt19937_64& rng);
 
+// The city's share of vertices where only two streets meet (most maps split a street wherever
+// one of its tags changes, so that a share of a city's vertices are such bends), measured on
+// the base around `region` (within `radius` of its centre), and the length of its short edges
+// (their 10th percentile, 0 when there are none).
+struct CityBends {
+    double share = 0.0;
+    double short_edge_m = 0.0;
+};
+CityBends bends_of(const GeometricGraph& base, const Vec2& centre, double radius);
+
+// Grown streets split at points along them, as often as the city's streets are: until the grown
+// vertices have the city's share of bends (vertices of two streets). Each split point lies on a
+// grown street, at least `bends.short_edge_m` from its ends and from the other splits; longer
+// streets are split more often. Returns how many vertices were added.
+std::size_t split_streets(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const CityBends& bends,
+                          std::mt19937_64& rng);
+
 } // namespace ggg::growth_detail

@@ -60,6 +60,7 @@ TracingReport Tracer::run() {
     }
     join_close_ends();
     report_.density = density_;
+    report_.junction_density = junction_density_;
     report_.typical_m = typical_;
     return report_;
 }

@@ -34,6 +34,7 @@ struct TracingReport {
     // square metre of the ground next to the region (0: too little ground to say), and the
     // typical street's length.
     double density = 0.0;
+    double junction_density = 0.0; // junctions (three streets or more) per square metre there
     double typical_m = 0.0;
 };
 

@@ -24,7 +24,8 @@ void Tracer::squared(const Street& s, std::vector<Vec2>& line, EdgeId e, std::si
     const Vec2* q = g_.geometry_begin(e);
     const Vec2 d = q[piece + 1] - q[piece];
     const double slant = std::abs(std::cos(angle_of(line.back() - from_point) - angle_of(d))); // 0: square
-    if (slant > std::sin(M_PI / 5) && !std::bernoulli_distribution(right_share_)(rng_)) return;
+    // (Where the streets around run on a grid, every one is squared.)
+    if (slant > std::sin(M_PI / 5) && !local_grid(from_point) && !std::bernoulli_distribution(right_share_)(rng_)) return;
     const double t = (from_point - q[piece]).dot(d) / std::max(d.squaredNorm(), 1e-300);
     if (t < 0.05 || t > 0.95) return;
     const Vec2 foot = q[piece] + t * d;
@@ -38,6 +39,15 @@ void Tracer::squared(const Street& s, std::vector<Vec2>& line, EdgeId e, std::si
 bool Tracer::end_at(const Street& s, const std::vector<Vec2>& line, VertexId w) {
     const std::vector<Vec2> to_w = warped(line, g_.positions[static_cast<std::size_t>(w)]);
     if (!fits_to_vertex(s.from, to_w, w)) return false;
+    // Where the streets around run on a grid, a join does not bend a street off it (by more
+    // than 10 degrees, or than its own shape was).
+    if (const auto grid = local_grid(line.front())) {
+        auto off = [&](const std::vector<Vec2>& l) {
+            const double a = wrap(angle_of(l.back() - l.front()) - *grid);
+            return std::abs(a - std::round(a / (M_PI / 2)) * (M_PI / 2));
+        };
+        if (off(to_w) > std::max(off(line), M_PI / 18)) return false;
+    }
     // A street of the base traced on joins what it meets only once it is in the region: one
     // that joins another street of the base on the way there adds a street to the city around
     // instead of continuing it into the region.
@@ -77,7 +87,7 @@ void Tracer::go_on_across(const Street& s, const std::vector<Vec2>& line, Vertex
 }
 
 Tracer::Settled Tracer::settle(const Street& s, const std::vector<Vec2>& line) {
-    const double snap = 0.3 * typical_;
+    const double snap = 0.3 * snap_scale();
     // A junction this close is joined rather than met beside it: less where the city's share of
     // short streets allows one more.
     const double join = spacing(snap);

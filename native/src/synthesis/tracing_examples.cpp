@@ -20,12 +20,48 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
         at[static_cast<std::size_t>(a)].push_back(static_cast<EdgeId>(e));
         at[static_cast<std::size_t>(b)].push_back(static_cast<EdgeId>(e));
     }
+    // The city's streets from junction to junction (or dead end), through the vertices where
+    // only two of its edges meet: many maps split a street wherever one of its tags changes,
+    // and the spacing of junctions, not of those splits, is what tracing keeps to.
     std::vector<double> lengths;
-    for (std::size_t e = 0; e < city.edge_count(); ++e) {
-        const auto [a, b] = city.edges[e];
+    std::vector<char> seen(city.edge_count(), 0);
+    for (std::size_t first = 0; first < city.edge_count(); ++first) {
+        if (seen[first]) continue;
+        seen[first] = 1;
+        const auto [a, b] = city.edges[first];
         const Vec2 pa = city.positions[static_cast<std::size_t>(a)], pb = city.positions[static_cast<std::size_t>(b)];
-        if (std::isfinite(radius) && distance_to_ring(region_, pa) > radius) continue;
-        lengths.push_back((pb - pa).norm());
+        const bool near = !std::isfinite(radius) || distance_to_ring(region_, pa) <= radius;
+        double length = (pb - pa).norm();
+        for (const VertexId start : {a, b}) {
+            VertexId v = start;
+            auto previous = static_cast<EdgeId>(first);
+            while (at[static_cast<std::size_t>(v)].size() == 2) {
+                const auto& two = at[static_cast<std::size_t>(v)];
+                const EdgeId next = two[0] == previous ? two[1] : two[0];
+                if (seen[static_cast<std::size_t>(next)]) break;
+                seen[static_cast<std::size_t>(next)] = 1;
+                const auto [c, d] = city.edges[static_cast<std::size_t>(next)];
+                const VertexId w = c == v ? d : c;
+                length += (city.positions[static_cast<std::size_t>(w)] - city.positions[static_cast<std::size_t>(v)]).norm();
+                previous = next;
+                v = w;
+            }
+        }
+        if (near) lengths.push_back(length);
+    }
+    // ... and its edges as the map has them.
+    {
+        std::vector<double> pieces;
+        for (std::size_t e = 0; e < city.edge_count(); ++e) {
+            const auto [a, b] = city.edges[e];
+            const Vec2 pa = city.positions[static_cast<std::size_t>(a)], pb = city.positions[static_cast<std::size_t>(b)];
+            if (std::isfinite(radius) && distance_to_ring(region_, pa) > radius) continue;
+            pieces.push_back((pb - pa).norm());
+        }
+        if (!pieces.empty()) {
+            std::nth_element(pieces.begin(), pieces.begin() + static_cast<long>(pieces.size() / 2), pieces.end());
+            typical_edge_ = std::max(1.0, pieces[pieces.size() / 2]);
+        }
     }
     if (lengths.empty()) return;
     std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
@@ -157,6 +193,12 @@ void Tracer::measure_density(const GeometricGraph& city, double radius) {
         }
     }
     double length = 0.0;
+    std::vector<int> degree(city.vertex_count(), 0);
+    for (const auto& [a, b] : city.edges) ++degree[static_cast<std::size_t>(a)], ++degree[static_cast<std::size_t>(b)];
+    std::size_t junctions = 0;
+    for (std::size_t v = 0; v < city.vertex_count(); ++v) {
+        if (const long c = cell_of(city.positions[v]); degree[v] >= 3 && c >= 0 && counted[static_cast<std::size_t>(c)]) ++junctions;
+    }
     for (std::size_t e = 0; e < city.edge_count(); ++e) {
         const Vec2* p = city.geometry_begin(static_cast<EdgeId>(e));
         for (std::size_t k = 0; k + 1 < city.geometry_size(static_cast<EdgeId>(e)); ++k) {
@@ -165,6 +207,7 @@ void Tracer::measure_density(const GeometricGraph& city, double radius) {
     }
     // Too little ground to say (a few cells): no cap.
     density_ = cells >= 16 ? length / (static_cast<double>(cells) * cell * cell) : 0.0;
+    junction_density_ = cells >= 16 ? static_cast<double>(junctions) / (static_cast<double>(cells) * cell * cell) : 0.0;
     density_cells_ = cells;
 }
 

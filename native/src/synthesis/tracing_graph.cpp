@@ -34,7 +34,15 @@ bool Tracer::denser_than_city(const std::vector<Vec2>& line, double slack) const
     double length = 0.0;
     for (std::size_t k = 0; k + 1 < line.size(); ++k) length += piece_within(line[k], line[k + 1], centre, r);
     length += street_length_within(g_, segments_, centre, r);
-    return length > slack * density_ * M_PI * r * r;
+    if (length > slack * density_ * M_PI * r * r) return true;
+    // As many junctions as the city has there, too: streets as long as the city's between
+    // them, not more and shorter ones that each end on the next.
+    if (junction_density_ <= 0.0) return false;
+    std::size_t junctions = 1;
+    for (auto it = vertices_.qbegin(bgi::intersects(spatial::around(centre, r))); it != vertices_.qend(); ++it) {
+        if ((g_.positions[static_cast<std::size_t>(it->second)] - centre).norm() <= r && degree(it->second) >= 3) ++junctions;
+    }
+    return static_cast<double>(junctions) > slack * junction_density_ * M_PI * r * r;
 }
 
 bool Tracer::adjacent(VertexId v, VertexId w) const {

@@ -11,16 +11,26 @@
 namespace ggg::growth_detail::tracing {
 
 void Tracer::seed() {
+    // The streets the region's border cut: those that end near it. Only where none does (a
+    // region drawn a little way off the city) do streets further out reach for it.
     const double reach = s_.border_m + std::max(3.0 * typical_, long_);
-    std::vector<std::pair<double, Street>> seeds;
+    for (const double near : {s_.border_m + 0.5 * typical_, reach}) {
+        if (seed_within(near, reach) > 0) return;
+    }
+}
+
+std::size_t Tracer::seed_within(double near, double reach) {
+    // (enters, whether it is a new side street, the street)
+    std::vector<std::tuple<double, bool, Street>> seeds;
     for (std::size_t v = 0; v < base_vertices_; ++v) {
         const auto id = static_cast<VertexId>(v);
         if (degree(id) >= 4 || across_[v]) continue;
         const Vec2 p = g_.positions[v];
         const bool in = inside(region_, p);
-        if (!in && distance_to_ring(region_, p) > reach) continue;
+        if (!in && distance_to_ring(region_, p) > near) continue;
         // Straight on from each street at v, where that leaves room and enters the region.
         std::optional<std::pair<double, Street>> best;
+        bool side = false;
         for (const EdgeId e : adjacency_[v]) {
             if (!traced_class(g_.edge_highway[static_cast<std::size_t>(e)])) continue;
             const Vec2 back = leaving(g_, e, id) - p;
@@ -55,6 +65,7 @@ void Tracer::seed() {
                 s.highway = common_class_;
                 s.main = false;
                 best = std::pair{enters, s};
+                side = true;
             }
         }
         // Else straight to the region, where that leaves room at v (a vertex whose streets
@@ -69,13 +80,33 @@ void Tracer::seed() {
                 s.highway = common_class_;
                 s.main = false;
                 best = std::pair{enters, s};
+                side = true;
             }
         }
         if (!best) continue;
-        seeds.push_back(*best);
+        seeds.emplace_back(best->first, side, best->second);
     }
-    // Each seed continues with a street of the city that goes on about straight.
-    for (auto& [enters, s] : seeds) {
+    // The streets that go on first, then new side streets, each as far from the seeds before
+    // it and from the base's junctions as the city's junctions are apart: a street along the
+    // region, split by its map into many short edges, gets side streets at the city's spacing,
+    // not one at every split.
+    std::sort(seeds.begin(), seeds.end(), [](const auto& a, const auto& b) {
+        return std::tie(std::get<1>(a), std::get<0>(a), std::get<2>(a).from) < std::tie(std::get<1>(b), std::get<0>(b), std::get<2>(b).from);
+    });
+    const double apart = crowd_ * typical_;
+    std::vector<Vec2> starts;
+    std::size_t queued = 0;
+    for (auto& [enters, side, s] : seeds) {
+        const Vec2 p = g_.positions[static_cast<std::size_t>(s.from)];
+        if (side) {
+            bool crowded = std::any_of(starts.begin(), starts.end(), [&](const Vec2& q) { return (q - p).norm() < apart; });
+            for (auto it = vertices_.qbegin(spatial::bgi::intersects(spatial::around(p, apart))); !crowded && it != vertices_.qend(); ++it) {
+                const VertexId w = it->second;
+                crowded = w != s.from && degree(w) >= 3 && (g_.positions[static_cast<std::size_t>(w)] - p).norm() < apart;
+            }
+            if (crowded) continue;
+        }
+        // Each seed continues with a street of the city that goes on about straight.
         const Branch* through = nullptr;
         for (int attempt = 0; attempt < 64 && !through; ++attempt) {
             const Example& example = example_for(s.main);
@@ -84,6 +115,7 @@ void Tracer::seed() {
             }
         }
         if (!through) continue;
+        starts.push_back(p);
         // Straight until it is in the region: the base's street goes on as it ran.
         s.min_length = enters + 0.25 * typical_;
         s.length = std::max(through->length, s.min_length);
@@ -91,11 +123,13 @@ void Tracer::seed() {
         s.order = order_++;
         queue_.push(s);
         ++report_.seeds;
+        ++queued;
     }
+    return queued;
 }
 
 void Tracer::join_close_ends() {
-    const double snap = 0.3 * typical_;
+    const double snap = 0.3 * snap_scale();
     auto grown_street_at = [&](VertexId w) {
         const auto& at = adjacency_[static_cast<std::size_t>(w)];
         return std::any_of(at.begin(), at.end(), [&](EdgeId e) { return static_cast<std::size_t>(e) >= fixed_edges_; });

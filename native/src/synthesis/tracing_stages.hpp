@@ -191,7 +191,8 @@ private:
 
     // Whether the streets around the line, with it, would be denser than the city's: a
     // street is traced only where the ground around it still has fewer streets than the city
-    // has on as much ground, so that a grown district is as dense as the city it continues.
+    // has on as much ground, and fewer junctions, so that a grown district is as dense as the
+    // city it continues and its streets as long between junctions.
     // (`slack` times the city's density, for a street through a crossing.)
     bool denser_than_city(const std::vector<Vec2>& line, double slack = 1.0) const;
 
@@ -230,6 +231,9 @@ private:
     // The base's streets that reach the region: a dead end or a junction with an open side
     // that points into the region, close enough to reach it with one street.
     void seed();
+    // The seeds from the base's vertices within `near` of the region (reaching at most `reach`
+    // for it); how many were queued.
+    std::size_t seed_within(double near, double reach);
 
     // The point of the region's border nearest p.
     Vec2 nearest_on_ring(const Vec2& p) const;
@@ -313,9 +317,15 @@ private:
     std::size_t fixed_edges_ = 0; // the streets there before: never split (their ids and ends are kept)
     double right_share_ = 0.5; // of the examples' junctions: angles between neighbouring streets within 15 degrees of 90
     HighwayClass common_class_ = HighwayClass::residential; // of the examples' streets: that of a new side street
-    double typical_ = 50.0; // median street of the examples, end to end
+    double typical_ = 50.0; // median street of the examples, end to end, from junction to junction
     double long_ = 100.0;   // their 90th percentile
+    double typical_edge_ = 50.0; // median edge of the examples' map (a street split where a tag changes, in pieces)
+    // What the snaps of settle are shares of: how far a join may move a street's end. The
+    // city's edges, not its streets, where its map splits them: moved further, a street's end
+    // bends it off square.
+    double snap_scale() const { return std::min(typical_, typical_edge_); }
     double density_ = 0.0;  // metres of street per square metre around the region (0: no cap)
+    double junction_density_ = 0.0; // junctions (three streets or more) per square metre there
     std::size_t density_cells_ = 0; // cells of ground it was measured on
     double expected_streets_ = 1.0;
     const double min_angle_ = M_PI / 6;

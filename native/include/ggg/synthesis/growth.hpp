@@ -79,6 +79,10 @@ struct GrowOptions {
     // Grown junctions become roundabouts as often as the base's near the region are ones
     // (street_cleanup.hpp).
     bool roundabouts = true;
+    // Last, grown streets are split where only two streets meet as often as the base's are
+    // near the region (most maps split a street wherever one of its tags changes), so that
+    // the grown district's graph has the city's share of such vertices (street_cleanup.hpp).
+    bool split_streets = true;
     std::vector<RulePlacement> placements; // rules placed by hand, grown from first
 };
 
@@ -119,6 +123,8 @@ void visit_grow_options(Options& o, Visit&& visit) {
           o.trace_streets);
     visit("roundabouts", "--no-roundabouts", "Make no roundabouts: keep every grown junction a junction, whatever the base's are",
           o.roundabouts);
+    visit("split_streets", "--no-split-streets",
+          "Keep grown streets whole between junctions: do not split them as often as the base's streets are split", o.split_streets);
 }
 
 // What became of one rule placed by hand: placed, or why it did not fit (a rule that does
@@ -159,6 +165,7 @@ struct GrowReport {
     std::size_t pruned_stubs = 0;       // grown dead-end streets cut off at the end: the short ones, and longer ones while the grown streets end in the open more often than the city's
     std::size_t roundabouts = 0;        // grown junctions made roundabouts, as often as the city's junctions are ones
     std::size_t dissolved_vertices = 0; // grown vertices between two grown streets of one class (and nothing else), made bends of one street
+    std::size_t split_vertices = 0;     // vertices added along grown streets, so that as many grown vertices are bends (two streets) as the city's around the region
     std::size_t removed_crossing_streets = 0; // grown streets taken out again because they crossed a street
     std::size_t main_road_routes = 0;   // main roads joined through the grown streets
     std::size_t raised_streets = 0;     // grown streets on those routes, now of a main road's class
