@@ -11,15 +11,10 @@
 namespace ggg::growth_detail::tracing {
 
 void Tracer::seed() {
-    // The streets the region's border cut: those that end near it. Only where none does (a
-    // region drawn a little way off the city) do streets further out reach for it.
     const double reach = s_.border_m + std::max(3.0 * typical_, long_);
-    for (const double near : {s_.border_m + 0.5 * typical_, reach}) {
-        if (seed_within(near, reach) > 0) return;
-    }
-}
-
-std::size_t Tracer::seed_within(double near, double reach) {
+    // A new side street (below) starts only next to the region: further out it would add a
+    // street to the city around the region rather than continue one into it.
+    const double near = s_.border_m + 0.5 * typical_;
     // (enters, whether it is a new side street, the street)
     std::vector<std::tuple<double, bool, Street>> seeds;
     for (std::size_t v = 0; v < base_vertices_; ++v) {
@@ -27,7 +22,8 @@ std::size_t Tracer::seed_within(double near, double reach) {
         if (degree(id) >= 4 || across_[v]) continue;
         const Vec2 p = g_.positions[v];
         const bool in = inside(region_, p);
-        if (!in && distance_to_ring(region_, p) > near) continue;
+        const double away = in ? 0.0 : distance_to_ring(region_, p);
+        if (away > reach) continue;
         // Straight on from each street at v, where that leaves room and enters the region.
         std::optional<std::pair<double, Street>> best;
         bool side = false;
@@ -48,7 +44,7 @@ std::size_t Tracer::seed_within(double near, double reach) {
         }
         // A junction whose streets leave one side open towards the region (a street of it
         // was cut there): a street across that side, down the middle of the gap.
-        if (!best && degree(id) >= 2) {
+        if (!best && degree(id) >= 2 && away <= near) {
             std::vector<double> angles;
             for (const EdgeId e : adjacency_[v]) angles.push_back(angle_of(leaving(g_, e, id) - p));
             std::sort(angles.begin(), angles.end());
@@ -70,7 +66,7 @@ std::size_t Tracer::seed_within(double near, double reach) {
         }
         // Else straight to the region, where that leaves room at v (a vertex whose streets
         // all ran into the region has none left to go on from).
-        if (!best && !in) {
+        if (!best && !in && away <= near) {
             const Vec2 towards = nearest_on_ring(p) - p;
             const double enters = towards.norm();
             if (enters > 1e-9 && clearance(id, towards) >= M_PI / 3) {
@@ -95,7 +91,6 @@ std::size_t Tracer::seed_within(double near, double reach) {
     });
     const double apart = crowd_ * typical_;
     std::vector<Vec2> starts;
-    std::size_t queued = 0;
     for (auto& [enters, side, s] : seeds) {
         const Vec2 p = g_.positions[static_cast<std::size_t>(s.from)];
         if (side) {
@@ -123,9 +118,7 @@ std::size_t Tracer::seed_within(double near, double reach) {
         s.order = order_++;
         queue_.push(s);
         ++report_.seeds;
-        ++queued;
     }
-    return queued;
 }
 
 void Tracer::join_close_ends() {

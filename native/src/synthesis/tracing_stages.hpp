@@ -231,9 +231,6 @@ private:
     // The base's streets that reach the region: a dead end or a junction with an open side
     // that points into the region, close enough to reach it with one street.
     void seed();
-    // The seeds from the base's vertices within `near` of the region (reaching at most `reach`
-    // for it); how many were queued.
-    std::size_t seed_within(double near, double reach);
 
     // The point of the region's border nearest p.
     Vec2 nearest_on_ring(const Vec2& p) const;
