@@ -92,6 +92,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         for (const FrontierEdge& f : frontier_) near.emplace_back(g_.positions[static_cast<std::size_t>(f.a)], g_.positions[static_cast<std::size_t>(f.b)]);
         const auto [squareness, angle] = four_fold(near);
         if (squareness >= 0.7) grid_angle_ = angle; // the streets around run on a grid: keep it
+        grid_around_ = squareness >= 0.5;
     }
     if (o_.trace_streets) {
         // The streets that reach the region are traced on into it first, after the
@@ -102,6 +103,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         tracing.min_block_m2 = min_block_m2_;
         tracing.usual_block_m2 = split_block_m2_;
         tracing.small_block_share = small_block_share_;
+        tracing.grid_city = grid_city_ || grid_around_;
         const GeometricGraph& style = grammar_.encoding.empty() ? base_copy_for_style() : style_city_;
         const growth_detail::TracingReport traced = growth_detail::trace_streets(g_, base_vertices_, style, region_, tracing, rng_, progress_);
         report.traced_seeds = traced.seeds;
@@ -156,12 +158,12 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.intersections = h.intersections;
         report.main_road_extensions = h.extensions;
     }
+    // The last guard again, for what the main roads laid across what was there.
+    if (o_.continue_hierarchy) report.removed_crossing_streets += growth_detail::remove_crossing_streets(g_, base_vertices_, base_edges_);
     // Last, once the main roads are continued: roundabouts are mostly where they meet.
     if (o_.roundabouts) {
         report.roundabouts = growth_detail::make_roundabouts(g_, base_vertices_, base_edges_, region_, base_roundabouts, rng_);
     }
-    // The last guard again, for what the main roads and roundabouts laid across what was there.
-    report.removed_crossing_streets += growth_detail::remove_crossing_streets(g_, base_vertices_, base_edges_);
     // Last of all, the grown streets split as often as the base's streets around the region are.
     if (o_.split_streets) report.split_vertices = growth_detail::split_streets(g_, base_vertices_, base_edges_, city_bends, rng_);
     report.added_vertices = g_.vertex_count() - base_vertices_;

@@ -180,6 +180,7 @@ private:
     std::optional<double> grid_angle_; // the grid the growth keeps to (modulo 90 degrees), once there is one
     // The city's metres of street per square metre next to the region, as tracing measured it,
     // and the radius of the disc a placement is held to it in (0: no cap).
+    bool grid_around_ = false; // the base's streets next to the region run on a grid
     double street_density_ = 0.0;
     double junction_density_ = 0.0;
     double density_radius_ = 0.0;

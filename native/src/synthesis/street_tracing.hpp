@@ -46,6 +46,10 @@ struct TracingSettings {
     // often as the city has them: at most this share of the blocks that tracing closes.
     double usual_block_m2 = 0.0;
     double small_block_share = 0.0;
+    // The city, or its streets next to the region, run on a grid (most of their length along
+    // two perpendicular directions): only then are streets joined straight across the region
+    // (join_across).
+    bool grid_city = false;
 };
 
 // How tracing, and the rules placed after it, hold the streets they add to the city's density

@@ -27,6 +27,10 @@ constexpr double kAcrossGrid = 15.0 * M_PI / 180.0;
 } // namespace
 
 void Tracer::join_across() {
+    // In a winding city two streets that happen to face each other across the region (within
+    // a few degrees, each square to the streets around it) are not one street (Monaco's hole
+    // was crossed by a straight main road 1.3 km long).
+    if (!s_.grid_city) return;
     const double reach = s_.border_m + std::max(3.0 * typical_, long_);
     // The loose ends of the base that point into the region, with their heading.
     struct End {
@@ -65,13 +69,21 @@ void Tracer::join_across() {
             if (turn_a > kAcrossTurn || turn_b > kAcrossTurn || aside > kAcrossAside * length) continue;
             // Only where the streets around both ends run on a grid and the line keeps to it:
             // in a winding city two streets that happen to face each other are not one.
+            // Both ends on one grid, too (its directions within a few degrees at both): two
+            // streets of a winding city may each run square to the streets around them.
             bool on_grids = true;
+            std::optional<double> first_grid;
             for (const Vec2& end : {a, b}) {
                 const std::optional<double> grid = local_grid(end);
                 if (!grid) {
                     on_grids = false;
                     break;
                 }
+                if (first_grid) {
+                    const double apart = wrap(*grid - *first_grid);
+                    on_grids = std::abs(apart - std::round(apart / (M_PI / 2)) * (M_PI / 2)) <= kAcrossTurn;
+                }
+                first_grid = grid;
                 const double off = wrap(angle_of(u) - *grid);
                 const double k = std::round(off / (M_PI / 2));
                 on_grids = on_grids && std::abs(off - k * (M_PI / 2)) <= kAcrossGrid;
