@@ -266,13 +266,9 @@ bool Grower::place(const Prototype& p, const Frame& frame, const Vec2& origin, V
         if (junction_density_ > 0.0) {
             std::vector<int> degree(local.vertex_count(), 0);
             for (const auto& [ia, ib] : added) ++degree[static_cast<std::size_t>(ia)], ++degree[static_cast<std::size_t>(ib)];
-            double junctions = 0.0;
+            std::size_t junctions = junctions_within(g_, vertices_, adjacency_, centre, r);
             for (std::size_t v : fresh) junctions += degree[v] >= 3 && (local.positions[v] - centre).norm() <= r;
-            for (auto it = vertices_.qbegin(bgi::intersects(spatial::around(centre, r))); it != vertices_.qend(); ++it) {
-                const auto w = static_cast<std::size_t>(it->second);
-                junctions += adjacency_[w].size() >= 3 && (g_.positions[w] - centre).norm() <= r;
-            }
-            if (junctions > junction_density_ * M_PI * r * r) return reject(PlacementOutcome::crowded);
+            if (static_cast<double>(junctions) > junction_density_ * M_PI * r * r) return reject(PlacementOutcome::crowded);
         }
     }
     // No new street may close a block smaller than the city's small ones (a rule placed

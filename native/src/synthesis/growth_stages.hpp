@@ -178,9 +178,9 @@ private:
     double split_block_m2_ = 0.0; // smallest half of a block that a T-junction may leave
     double small_block_share_ = 0.0; // of the city's blocks above the sliver floor, those smaller than split_block_m2_
     std::optional<double> grid_angle_; // the grid the growth keeps to (modulo 90 degrees), once there is one
-    // The city's metres of street per square metre next to the region, as tracing measured it,
-    // and the radius of the disc a placement is held to it in (0: no cap).
     bool grid_around_ = false; // the base's streets next to the region run on a grid
+    // The city's metres of street and junctions per square metre next to the region, as
+    // tracing measured them, and the radius of the disc a placement is held to them in (0: no cap).
     double street_density_ = 0.0;
     double junction_density_ = 0.0;
     double density_radius_ = 0.0;

@@ -60,6 +60,19 @@ inline double piece_within(const Vec2& a, const Vec2& b, const Vec2& centre, dou
 }
 // ... and the streets of `g` (found through `segments`, an index of its edges' boxes).
 double street_length_within(const GeometricGraph& g, const spatial::RTree<spatial::EdgeEntry>& segments, const Vec2& centre, double r);
+// ... and its junctions (vertices of three streets or more) in the same disc, found through
+// `vertices` (an index of its vertices); `around[v]` lists what meets at v (streets or
+// neighbours: only its size counts).
+template <typename Around>
+std::size_t junctions_within(const GeometricGraph& g, const spatial::RTree<spatial::VertexEntry>& vertices, const Around& around,
+                             const Vec2& centre, double r) {
+    std::size_t junctions = 0;
+    for (auto it = vertices.qbegin(spatial::bgi::intersects(spatial::around(centre, r))); it != vertices.qend(); ++it) {
+        const auto v = static_cast<std::size_t>(it->second);
+        junctions += around[v].size() >= 3 && (g.positions[v] - centre).norm() <= r;
+    }
+    return junctions;
+}
 
 // Adds the traced streets to `g` (whose first `base_vertices` vertices are the base). `city`
 // is the example (the grammar's city); nothing is traced when it has no junctions to learn

@@ -38,10 +38,7 @@ bool Tracer::denser_than_city(const std::vector<Vec2>& line, double slack) const
     // As many junctions as the city has there, too: streets as long as the city's between
     // them, not more and shorter ones that each end on the next.
     if (junction_density_ <= 0.0) return false;
-    std::size_t junctions = 1;
-    for (auto it = vertices_.qbegin(bgi::intersects(spatial::around(centre, r))); it != vertices_.qend(); ++it) {
-        if ((g_.positions[static_cast<std::size_t>(it->second)] - centre).norm() <= r && degree(it->second) >= 3) ++junctions;
-    }
+    const std::size_t junctions = 1 + junctions_within(g_, vertices_, adjacency_, centre, r); // (its end may become one)
     return static_cast<double>(junctions) > slack * junction_density_ * M_PI * r * r;
 }
 
