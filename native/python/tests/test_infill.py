@@ -56,15 +56,16 @@ def test_rules_placed_after_tracing_keep_to_the_city_density():
 
 
 # Baltimore is a grid of crossings (300 of the hole's 470 junctions). A traced street that
-# meets another goes on across it as often as the city's junctions are crossings; when each
-# ended in a T-junction instead, the grid grew staggered T's: 0.69 to 0.74 of the junction
-# angles square against the city's 0.86, and `ggg compare` 1.8 to 2.1 times the ring's (now
-# 1.24 to 1.51 times on six seeds; this one is 1.51).
+# meets another goes on across it as often as the city's streets go on across the streets they
+# meet; when each ended in a T-junction instead, the grid grew staggered T's: 0.69 to 0.74 of
+# the junction angles square against the city's 0.86, and `ggg compare` 1.8 to 2.1 times the
+# ring's. Counting a T seen from its bar as a street that stops there still left 0.76 and 1.57
+# times on this seed (now 0.79 and 1.36 times).
 def test_streets_go_on_through_crossings_as_the_city_does():
     for row in bench_infill.measure("baltimore_us.osm.pbf", [1]):
         assert row["crossed"] > 0, row
-        assert row["right"] >= row["real_right"] - 0.12, row
-        assert row["mean"] <= 1.6 * row["ring_mean"], row
+        assert row["right"] >= row["real_right"] - 0.08, row
+        assert row["mean"] <= 1.5 * row["ring_mean"], row
         assert 0.6 <= row["fill"] <= 1.6 and row["crossings"] == 0 and row["continued"] >= 0.85, row
 
 
@@ -107,3 +108,36 @@ def test_streets_traced_on_from_the_base_do_not_join_the_city_outside_the_region
                 (middles[:, 1] < y0 - margin) | (middles[:, 1] > y1 + margin)
             pieces = np.linalg.norm(np.diff(line, axis=0), axis=1)
             assert pieces[out].sum() <= margin, (seed, e, line)
+
+
+# A rule placed after tracing is turned to fit the street it grows from, and can meet that
+# street, or the streets at a vertex it lands on, at any angle. Helsinki's rules alone, grown
+# into its hole, made wedges of streets meeting at 15 to 17 degrees (36 to 45 pairs of streets
+# under 30 degrees); a placement that would meet a street that sharply is not made.
+def test_placed_rules_meet_no_street_at_a_sharp_corner():
+    graph = bench_infill.ggg.read_graph(str(bench_infill.OSM / "helsinki_centre.osm.pbf"))
+    x0, y0, x1, y1 = bench_infill.hole_of(graph)
+    rest, _, _ = bench_infill.cut_hole(graph, (x0, y0, x1, y1))
+    grammar, _ = bench_infill.ggg.learn(rest)
+    corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+    for seed in (1, 2):
+        grown, report = bench_infill.ggg.grow_region(rest, grammar, corners, seed=seed, trace_streets=False,
+                                                     continue_hierarchy=False, close_dead_ends=0, roundabouts=False,
+                                                     split_streets=False)
+        assert report["placements"] >= 20 and report["rejected_sharp"] > 0, report
+        offsets, points = grown.edge_geometry()
+        edges = np.asarray(grown.edges)
+        leaving = {}  # vertex -> (direction of each street leaving it, grown or not)
+        for e in range(grown.edge_count):
+            line = points[offsets[e]:offsets[e + 1]]
+            grown_street = e >= rest.edge_count
+            leaving.setdefault(edges[e][0], []).append((line[1] - line[0], grown_street))
+            leaving.setdefault(edges[e][1], []).append((line[-2] - line[-1], grown_street))
+        for v, streets in leaving.items():
+            for i, (a, grown_a) in enumerate(streets):
+                for b, grown_b in streets[i + 1:]:
+                    if grown_a or grown_b:
+                        cosine = a @ b / (np.linalg.norm(a) * np.linalg.norm(b))
+                        # (A street of the base is measured along its first piece, the
+                        # placement along the line to its next vertex: a few degrees apart.)
+                        assert cosine < np.cos(np.radians(25)), (seed, v, np.degrees(np.arccos(cosine)))

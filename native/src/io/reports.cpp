@@ -74,6 +74,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"rejected_off_grid", r.rejected_off_grid},
         {"rejected_small_block", r.rejected_small_block},
         {"rejected_star", r.rejected_star},
+        {"rejected_sharp", r.rejected_sharp},
         {"traced_seeds", r.traced_seeds},
         {"traced_streets", r.traced_streets},
         {"traced_joined", r.traced_joined},

@@ -218,6 +218,7 @@ std::string_view outcome_name(PlacementOutcome outcome) {
     case PlacementOutcome::crossing: return "crossing";
     case PlacementOutcome::crowded: return "crowded";
     case PlacementOutcome::star: return "star";
+    case PlacementOutcome::sharp: return "sharp";
     case PlacementOutcome::small_block: return "small_block";
     case PlacementOutcome::nothing_new: return "nothing_new";
     }

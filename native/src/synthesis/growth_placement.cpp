@@ -121,6 +121,7 @@ bool Grower::reject(PlacementOutcome why) {
     case PlacementOutcome::crossing: ++report_->rejected_crossing; break;
     case PlacementOutcome::crowded: ++report_->rejected_crowded; break;
     case PlacementOutcome::star: ++report_->rejected_star; break;
+    case PlacementOutcome::sharp: ++report_->rejected_sharp; break;
     case PlacementOutcome::small_block: ++report_->rejected_small_block; break;
     case PlacementOutcome::placed:
     case PlacementOutcome::nothing_new: break;
@@ -206,6 +207,32 @@ bool Grower::place(const Prototype& p, const Frame& frame, const Vec2& origin, V
                 const std::size_t before = key >= 0 ? adjacency_[static_cast<std::size_t>(key)].size() : 0;
                 if (before + ++gained[key] > 4) {
                     return reject(PlacementOutcome::star);
+                }
+            }
+        }
+    }
+    // No new street may meet another at a sharp corner (under 30 degrees, as tracing keeps
+    // to): a rule turned to fit a frontier street can meet it, or the streets at the vertex it
+    // snaps to, at any angle, and Helsinki grew thin wedges of streets crossing at 15 degrees.
+    if (!by_hand) {
+        std::unordered_map<VertexId, std::vector<Vec2>> leaving; // by global id, or -1 - local id when new
+        auto key_of = [&](VertexId x) { return global[static_cast<std::size_t>(x)] >= 0 ? global[static_cast<std::size_t>(x)] : -1 - x; };
+        for (const auto& [a, b] : added) {
+            leaving[key_of(a)].push_back(local.positions[static_cast<std::size_t>(b)] - local.positions[static_cast<std::size_t>(a)]);
+            leaving[key_of(b)].push_back(local.positions[static_cast<std::size_t>(a)] - local.positions[static_cast<std::size_t>(b)]);
+        }
+        const double cos_sharp = std::cos(M_PI / 6);
+        for (const auto& [key, fresh_directions] : leaving) {
+            std::vector<Vec2> all = fresh_directions;
+            if (key >= 0) {
+                const Vec2 at = g_.positions[static_cast<std::size_t>(key)];
+                for (const VertexId w : adjacency_[static_cast<std::size_t>(key)]) all.push_back(g_.positions[static_cast<std::size_t>(w)] - at);
+            }
+            for (std::size_t i = 0; i < fresh_directions.size(); ++i) {
+                for (std::size_t k = 0; k < all.size(); ++k) {
+                    const double ni = all[i].norm(), nk = all[k].norm();
+                    if (k == i || ni < 1e-9 || nk < 1e-9) continue;
+                    if (all[i].dot(all[k]) > cos_sharp * ni * nk) return reject(PlacementOutcome::sharp);
                 }
             }
         }

@@ -105,6 +105,20 @@ bool Tracer::enters_region(const std::vector<Vec2>& line) const {
     return false;
 }
 
+double Tracer::share_inside(const std::vector<Vec2>& line) const {
+    double in = 0.0, total = 0.0;
+    for (std::size_t k = 0; k + 1 < line.size(); ++k) {
+        // Each piece in eight steps: a piece may cross the border.
+        const Vec2 d = (line[k + 1] - line[k]) / 8.0;
+        for (int i = 0; i < 8; ++i) {
+            const double l = d.norm();
+            total += l;
+            if (inside(region_, line[k] + (i + 0.5) * d)) in += l;
+        }
+    }
+    return total > 0 ? in / total : 0.0;
+}
+
 bool Tracer::leaves_region_inside_line(const std::vector<Vec2>& line) const {
     for (std::size_t k = 1; k + 1 < line.size(); ++k) {
         if (!inside(region_, line[k])) return true;

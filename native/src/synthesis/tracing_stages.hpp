@@ -163,6 +163,9 @@ private:
     // at one of its points after the first or the middle of one of its pieces).
     bool enters_region(const std::vector<Vec2>& line) const;
 
+    // The share of the line's length inside the region.
+    double share_inside(const std::vector<Vec2>& line) const;
+
     // Whether the line has a point outside the region between its ends.
     bool leaves_region_inside_line(const std::vector<Vec2>& line) const;
 

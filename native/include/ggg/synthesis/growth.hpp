@@ -135,6 +135,7 @@ enum class PlacementOutcome : std::uint8_t {
     crossing,    // a new street would cross another
     crowded,     // a new vertex would come too close to another, or the streets around be denser than the city's
     star,        // a junction of more than four streets
+    sharp,       // a new street would meet another at a sharp corner (under 30 degrees)
     small_block, // a new street would close a block smaller than the city's
     nothing_new, // every vertex landed on one already there
 };
@@ -150,6 +151,7 @@ struct GrowReport {
     std::size_t rejected_off_grid = 0; // a square rule turned off the grid around
     std::size_t rejected_small_block = 0; // a new street closing a block smaller than the city's
     std::size_t rejected_star = 0;     // a junction of more than four streets
+    std::size_t rejected_sharp = 0;    // a new street meeting another at a sharp corner
     std::size_t traced_seeds = 0;       // streets reaching the region that were traced on into it
     std::size_t traced_streets = 0;     // streets added by tracing
     std::size_t traced_joined = 0;      // traced streets that ended at a junction already there
