@@ -23,6 +23,9 @@ constexpr double kAcrossAside = 0.08;
 // How far the line may run from the grid of the streets around its ends (their four-fold mean
 // direction, which two grids meeting or a few diagonal streets pull aside by some degrees).
 constexpr double kAcrossGrid = 15.0 * M_PI / 180.0;
+// Two ends this well in line are one straight street the region cut.
+constexpr double kStraightTurn = 2.0 * M_PI / 180.0;
+constexpr double kStraightAside = 0.02;
 
 } // namespace
 
@@ -70,7 +73,12 @@ void Tracer::join_across() {
             // Only where the streets around both ends run on a grid and the line keeps to it:
             // in a winding city two streets that happen to face each other are not one.
             // Both ends on one grid, too (its directions within a few degrees at both): two
-            // streets of a winding city may each run square to the streets around them.
+            // streets of a winding city may each run square to the streets around them. Unless
+            // the two ends are one straight street cut in two (within 2 degrees and 2 % of the
+            // way across of each other's line): the mean direction of the streets around each
+            // end is pulled aside by a main road or a neighbouring grid (by 13 degrees in
+            // Oakland, whose hole is crossed by four such streets).
+            const bool straight_on = std::max(turn_a, turn_b) <= kStraightTurn && aside <= kStraightAside * length;
             bool on_grids = true;
             std::optional<double> first_grid;
             for (const Vec2& end : {a, b}) {
@@ -81,7 +89,7 @@ void Tracer::join_across() {
                 }
                 if (first_grid) {
                     const double apart = wrap(*grid - *first_grid);
-                    on_grids = std::abs(apart - std::round(apart / (M_PI / 2)) * (M_PI / 2)) <= kAcrossTurn;
+                    on_grids = on_grids && (straight_on || std::abs(apart - std::round(apart / (M_PI / 2)) * (M_PI / 2)) <= kAcrossTurn);
                 }
                 first_grid = grid;
                 const double off = wrap(angle_of(u) - *grid);
