@@ -53,6 +53,9 @@ bool Tracer::end_at(const Street& s, const std::vector<Vec2>& line, VertexId w) 
     // the way there, or cuts across a corner of the region to a street just inside it, adds a
     // street to the city around instead of continuing it into the region.
     if (s.generation == 0 && (!enters_region(to_w) || share_inside(to_w) < 0.5)) return false;
+    // A grown street joins a street outside the region only across the border band: one that
+    // runs on out of the region to a street further away lays a street in the city around.
+    if (s.generation > 0 && length_outside(to_w) > std::max(s_.border_m, 0.1 * typical_)) return false;
     add_street(s.from, w, to_w, s.highway);
     ++report_.joined;
     return true;

@@ -105,6 +105,15 @@ bool Tracer::enters_region(const std::vector<Vec2>& line) const {
     return false;
 }
 
+double Tracer::length_outside(const std::vector<Vec2>& line) const {
+    double out = 0.0;
+    for (std::size_t k = 0; k + 1 < line.size(); ++k) {
+        const Vec2 d = (line[k + 1] - line[k]) / 8.0;
+        for (int i = 0; i < 8; ++i) out += inside(region_, line[k] + (i + 0.5) * d) ? 0.0 : d.norm();
+    }
+    return out;
+}
+
 double Tracer::share_inside(const std::vector<Vec2>& line) const {
     double in = 0.0, total = 0.0;
     for (std::size_t k = 0; k + 1 < line.size(); ++k) {
