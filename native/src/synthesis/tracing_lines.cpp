@@ -28,19 +28,19 @@ std::optional<double> Tracer::local_grid(const Vec2& p) const {
     return std::atan2(sn, c) / 4.0;
 }
 
-double Tracer::on_grid(double heading, const Vec2& p, double tolerance) const {
+double Tracer::on_grid(double heading, const Vec2& p) const {
     const std::optional<double> grid = local_grid(p);
     if (!grid) return heading;
     const double quarter = M_PI / 2;
     const double k = std::round((heading - *grid) / quarter);
     const double snapped = *grid + k * quarter;
-    return std::abs(wrap(heading - snapped)) <= tolerance ? snapped : heading;
+    return std::abs(wrap(heading - snapped)) <= grid_tolerance_ ? snapped : heading;
 }
 
 std::vector<Vec2> Tracer::lay_from(const Vec2& p, const Street& s) const {
     // A street from the base tried again keeps the heading it is tried at: turned back onto the
     // grid, each retry, turned a little further, would be the heading that failed again.
-    const Vec2 x = s.length * unit(s.retries > 0 ? s.heading : on_grid(s.heading, p, s.straight_on ? straight_on_tolerance_ : grid_tolerance_));
+    const Vec2 x = s.length * unit(s.retries > 0 ? s.heading : on_grid(s.heading, p));
     std::vector<Vec2> line;
     for (const Vec2& q : s.shape) line.push_back(p + Vec2(x.x() * q.x() - x.y() * q.y(), x.y() * q.x() + x.x() * q.y()));
     return line;

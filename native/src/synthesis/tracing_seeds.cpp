@@ -40,7 +40,6 @@ void Tracer::seed() {
             s.heading = angle_of(ahead);
             s.highway = g_.edge_highway[static_cast<std::size_t>(e)];
             s.main = main_class(s.highway);
-            s.straight_on = true;
             if (!best || enters < best->first) best = std::pair{enters, s};
         }
         // A junction whose streets leave one side open towards the region (a street of it

@@ -77,9 +77,6 @@ struct Street {
     // a new street from a junction, so the density cap that stops streets at junctions is
     // looser for it (trace).
     bool through = false;
-    // A street of the base going on as it ran: kept to the grid around only where it nearly
-    // runs on it already (a diagonal avenue across a grid goes on as a diagonal).
-    bool straight_on = false;
     int retries = 0;         // a street from the base that reaches the region is tried again
     double min_length = 0.0; // (and must still reach into the region)
 };
@@ -251,13 +248,11 @@ private:
     // perpendicular directions), a street traced from there keeps to it: its heading is turned
     // onto the grid's nearest direction (grid_tolerance_, 45 degrees: every heading), so that
     // the small bends of the examples do not add up and streets meet square. Local, so that a
-    // grid district and a winding one next to it each keep their own. A street of the base
-    // going on is turned only where it runs within straight_on_tolerance_ (10 degrees) of the
-    // grid: a diagonal avenue goes on as a diagonal.
+    // grid district and a winding one next to it each keep their own.
     std::optional<double> local_grid(const Vec2& p) const;
 
-    // The heading turned onto the local grid at p, where it is within `tolerance` of it.
-    double on_grid(double heading, const Vec2& p, double tolerance) const;
+    // The heading turned onto the local grid at p, where it is within grid_tolerance_ of it.
+    double on_grid(double heading, const Vec2& p) const;
 
     // The street's line from its start (or from p), along its heading (kept to the grid), its
     // length and its shape.
@@ -338,7 +333,6 @@ private:
     // No new junction within this many typical streets of another: the spacing of junctions.
     const double crowd_ = 0.5;
     const double grid_tolerance_ = M_PI / 4;
-    const double straight_on_tolerance_ = M_PI / 18;
     std::vector<char> across_; // per base vertex: joined across the region (join_across)
     std::size_t blocks_closed_ = 0, small_blocks_closed_ = 0; // by tracing, for the city's share of small blocks
     // Junctions closer than the usual spacing (crowd_, the snap of settle) are made only as
