@@ -371,6 +371,7 @@ def measure(city, seeds):
             "continued": continued, "joined": joined,
             "stars": c["a"]["star_share"], "real_stars": c["b"]["star_share"],
             "right": c["a"]["right_angle_share"], "real_right": c["b"]["right_angle_share"],
+            "ring_right": floor["a"]["right_angle_share"],
             "dead": inner_dead_end_share(part, hole), "real_dead": inner_dead_end_share(real, hole),
             "deg2": c["a"]["degree2_share"], "real_deg2": c["b"]["degree2_share"],
             "through": c["a"]["through_share"], "real_through": c["b"]["through_share"],
@@ -403,14 +404,14 @@ def main():
         all_rows += rows
         for r in rows:
             print("{city} seed {seed}: fill {fill:.2f}, continued {continued:.2f}, joined {joined:.2f}, stars {stars:.3f} "
-                  "(real {real_stars:.3f}), right angles {right:.2f} (real {real_right:.2f}), dead ends {dead:.2f} "
+                  "(real {real_stars:.3f}), right angles {right:.2f} (real {real_right:.2f}, ring {ring_right:.2f}), dead ends {dead:.2f} "
                   "(real {real_dead:.2f}), degree 2 {deg2:.2f} (real {real_deg2:.2f}), through {through:.2f} "
                   "(real {real_through:.2f}), circuity {circuity} (real {real_circuity}), compare mean {mean:.3f} "
                   "(ring {ring_mean:.3f}, {ratio:.1f}x), crossings {crossings}; learn {learn_s:.1f} s, grow {grow_s:.1f} s"
                   .format(ratio=r["mean"] / max(r["ring_mean"], 1e-9), **r), flush=True)
     if args.markdown:
         print("\n| city | kind | fill | severed streets continued | grown vertices joined | star junctions (real) "
-              "| right angles (real) | dead ends (real) | degree 2 (real) | through streets (real) | circuity (real) "
+              "| right angles (real; ring) | dead ends (real) | degree 2 (real) | through streets (real) | circuity (real) "
               "| compare mean / ring's | crossings |")
         print("|---|---|" + "---:|" * 11)
         for city in args.cities.split(","):
@@ -420,9 +421,9 @@ def main():
                 values = [r[key] for r in rows if r[key] is not None and not math.isnan(r[key])]
                 return sum(values) / len(values) if values else float("nan")
 
-            print("| {} | {} | {} | {} | {} | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {}× | {} |".format(
+            print("| {} | {} | {} | {} | {} | {} ({}) | {} ({}; {}) | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {}× | {} |".format(
                 city.split(".")[0], CITIES.get(city, ""), fmt(mean("fill")), fmt(mean("continued")), fmt(mean("joined")),
-                fmt(mean("stars"), 3), fmt(mean("real_stars"), 3), fmt(mean("right")), fmt(mean("real_right")),
+                fmt(mean("stars"), 3), fmt(mean("real_stars"), 3), fmt(mean("right")), fmt(mean("real_right")), fmt(mean("ring_right")),
                 fmt(mean("dead")), fmt(mean("real_dead")), fmt(mean("deg2")), fmt(mean("real_deg2")),
                 fmt(mean("through")), fmt(mean("real_through")), fmt(mean("circuity")), fmt(mean("real_circuity")),
                 fmt(mean("mean") / max(mean("ring_mean"), 1e-9), 1), sum(r["crossings"] for r in rows)))
