@@ -108,6 +108,7 @@ bool Tracer::enters_region(const std::vector<Vec2>& line) const {
 double Tracer::length_outside(const std::vector<Vec2>& line) const {
     double out = 0.0;
     for (std::size_t k = 0; k + 1 < line.size(); ++k) {
+        // Each piece in eight steps: a piece may cross the border.
         const Vec2 d = (line[k + 1] - line[k]) / 8.0;
         for (int i = 0; i < 8; ++i) out += inside(region_, line[k] + (i + 0.5) * d) ? 0.0 : d.norm();
     }
@@ -115,17 +116,9 @@ double Tracer::length_outside(const std::vector<Vec2>& line) const {
 }
 
 double Tracer::share_inside(const std::vector<Vec2>& line) const {
-    double in = 0.0, total = 0.0;
-    for (std::size_t k = 0; k + 1 < line.size(); ++k) {
-        // Each piece in eight steps: a piece may cross the border.
-        const Vec2 d = (line[k + 1] - line[k]) / 8.0;
-        for (int i = 0; i < 8; ++i) {
-            const double l = d.norm();
-            total += l;
-            if (inside(region_, line[k] + (i + 0.5) * d)) in += l;
-        }
-    }
-    return total > 0 ? in / total : 0.0;
+    double total = 0.0;
+    for (std::size_t k = 0; k + 1 < line.size(); ++k) total += (line[k + 1] - line[k]).norm();
+    return total > 0 ? 1.0 - length_outside(line) / total : 0.0;
 }
 
 bool Tracer::leaves_region_inside_line(const std::vector<Vec2>& line) const {
