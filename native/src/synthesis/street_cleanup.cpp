@@ -201,17 +201,13 @@ std::size_t dissolve_bends(GeometricGraph& g, std::size_t base_vertices, std::si
 }
 
 CityBends bends_of(const GeometricGraph& base, const Vec2& centre, double radius) {
-    std::vector<int> degree(base.vertex_count(), 0);
-    for (const auto& [a, b] : base.edges) {
-        if (a == b) continue;
-        ++degree[static_cast<std::size_t>(a)];
-        ++degree[static_cast<std::size_t>(b)];
-    }
+    const Adjacency adjacency(base);
     std::size_t vertices = 0, bends = 0;
     for (std::size_t v = 0; v < base.vertex_count(); ++v) {
-        if (degree[v] == 0 || (base.positions[v] - centre).norm() > radius) continue;
+        const std::size_t degree = adjacency.degree(static_cast<VertexId>(v));
+        if (degree == 0 || (base.positions[v] - centre).norm() > radius) continue;
         ++vertices;
-        bends += degree[v] == 2;
+        bends += degree == 2;
     }
     std::vector<double> lengths;
     for (const auto& [a, b] : base.edges) {
@@ -247,12 +243,12 @@ bool simple_line(const Vec2* p, std::size_t n) {
 std::size_t split_streets(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const CityBends& bends,
                           std::mt19937_64& rng) {
     if (bends.share <= 0.0 || bends.share >= 0.95 || bends.short_edge_m <= 0.0) return 0;
-    std::vector<int> degree(g.vertex_count(), 0);
-    for (const auto& [a, b] : g.edges) ++degree[static_cast<std::size_t>(a)], ++degree[static_cast<std::size_t>(b)];
+    const Adjacency adjacency(g);
     std::size_t grown = 0, two = 0;
     for (std::size_t v = base_vertices; v < g.vertex_count(); ++v) {
-        grown += degree[v] > 0;
-        two += degree[v] == 2;
+        const std::size_t degree = adjacency.degree(static_cast<VertexId>(v));
+        grown += degree > 0;
+        two += degree == 2;
     }
     // (two + k) / (grown + k) = share
     const double missing = (bends.share * static_cast<double>(grown) - static_cast<double>(two)) / (1.0 - bends.share);
