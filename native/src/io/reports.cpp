@@ -89,6 +89,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"t_junctions", r.t_junctions},
         {"pruned_stubs", r.pruned_stubs},
         {"roundabouts", r.roundabouts},
+        {"cul_de_sacs", r.cul_de_sacs},
         {"dissolved_vertices", r.dissolved_vertices},
         {"split_vertices", r.split_vertices},
         {"removed_crossing_streets", r.removed_crossing_streets},

@@ -27,8 +27,9 @@ using namespace spatial; // bg, bgi, Point, Box, point, RTree, VertexEntry, Edge
 
 GeometricGraph Grower::run(GrowReport& report) {
     report_ = &report;
-    // The base's roundabouts, which growth makes as often (a learned grammar keeps no one-way
-    // streets, by which they are told from small squares).
+    // The base's dead-end streets and roundabouts, which growth makes as often (a learned
+    // grammar keeps no one-way streets, by which roundabouts are told from small squares).
+    const growth_detail::CityCulDeSacs base_cul_de_sacs = o_.cul_de_sacs ? growth_detail::cul_de_sacs_of(g_, region_) : growth_detail::CityCulDeSacs{};
     const growth_detail::CityRoundabouts base_roundabouts = o_.roundabouts ? growth_detail::roundabouts_of(g_, region_) : growth_detail::CityRoundabouts{};
     const std::vector<int> levels = rule_levels(grammar_);
     const int depth = levels.empty() ? 1 : *std::max_element(levels.begin(), levels.end());
@@ -164,6 +165,8 @@ GeometricGraph Grower::run(GrowReport& report) {
     if (o_.roundabouts) {
         report.roundabouts = growth_detail::make_roundabouts(g_, base_vertices_, base_edges_, region_, base_roundabouts, rng_);
     }
+    // Then the blocks get the city's dead-end streets (their junctions are no roundabouts).
+    if (o_.cul_de_sacs) report.cul_de_sacs = growth_detail::make_cul_de_sacs(g_, base_edges_, region_, base_cul_de_sacs, rng_);
     // Last of all, the grown streets split as often as the base's streets around the region are.
     if (o_.split_streets) report.split_vertices = growth_detail::split_streets(g_, base_vertices_, base_edges_, city_bends, rng_);
     report.added_vertices = g_.vertex_count() - base_vertices_;

@@ -224,10 +224,6 @@ CityBends bends_of(const GeometricGraph& base, const Vec2& centre, double radius
     return city;
 }
 
-namespace {
-
-// Whether the polyline p[0..n) neither crosses nor folds back onto itself: split there, its
-// two pieces would cross each other.
 bool simple_line(const Vec2* p, std::size_t n) {
     for (std::size_t i = 0; i + 1 < n; ++i) {
         if (i + 2 < n && (p[i + 1] - p[i]).dot(p[i + 2] - p[i + 1]) < -0.99 * (p[i + 1] - p[i]).norm() * (p[i + 2] - p[i + 1]).norm()) return false;
@@ -237,8 +233,6 @@ bool simple_line(const Vec2* p, std::size_t n) {
     }
     return true;
 }
-
-} // namespace
 
 std::size_t split_streets(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const CityBends& bends,
                           std::mt19937_64& rng) {
@@ -281,9 +275,15 @@ std::size_t split_streets(GeometricGraph& g, std::size_t base_vertices, std::siz
         ++made;
     }
     if (made == 0) return 0;
+    split_edges_at(g, at);
+    return made;
+}
+
+std::vector<std::vector<VertexId>> split_edges_at(GeometricGraph& g, std::vector<std::vector<double>>& at) {
+    std::vector<std::vector<VertexId>> made(g.edge_count());
     // The graph again: each split street in pieces, with a vertex at each split.
     std::vector<Street> streets;
-    streets.reserve(g.edge_count() + made);
+    streets.reserve(g.edge_count());
     const std::size_t edges = g.edge_count();
     for (std::size_t e = 0; e < edges; ++e) {
         const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
@@ -305,6 +305,7 @@ std::size_t split_streets(GeometricGraph& g, std::size_t base_vertices, std::siz
                 const Vec2 x = p[k] + (step > 0.0 ? (points[next] - walked) / step : 0.0) * (p[k + 1] - p[k]);
                 piece.push_back(x);
                 const VertexId v = g.add_vertex(x);
+                made[e].push_back(v);
                 streets.push_back({from, v, attributes, std::move(piece)});
                 from = v;
                 piece = {x};

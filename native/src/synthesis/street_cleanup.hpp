@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ggg/graph/geometric_graph.hpp"
+#include "ggg/graph/road_class.hpp"
 
 namespace ggg::growth_detail {
 
@@ -65,5 +66,35 @@ CityBends bends_of(const GeometricGraph& base, const Vec2& centre, double radius
 // streets are split more often. Returns how many vertices were added.
 std::size_t split_streets(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const CityBends& bends,
                           std::mt19937_64& rng);
+
+
+// Whether the polyline p[0..n) neither crosses nor folds back onto itself: split there, its
+// two pieces would cross each other.
+bool simple_line(const Vec2* p, std::size_t n);
+
+// Each edge e split at the arc lengths at[e] along its polyline (sorted in place, each inside
+// the edge), with a new vertex at each; the other edges as they were (the graph is rebuilt, so
+// edge ids change; vertex ids do not). Returns the new vertices, edge by edge, in the order of
+// their points along it.
+std::vector<std::vector<VertexId>> split_edges_at(GeometricGraph& g, std::vector<std::vector<double>>& at);
+
+// A city's dead-end streets, as growth makes them (growth_cul_de_sacs.cpp): in the blocks near
+// the region, how many dead ends each block holds by its area, and how long the streets to them
+// are (from the dead end to the first junction). Cul-de-sacs, courts and closes are where a
+// city's blocks are too large for loops alone: a grid's small blocks have none, a suburb's
+// large ones several.
+struct CityCulDeSacs {
+    std::vector<std::pair<double, int>> blocks; // (area m^2, dead ends in it), by area
+    std::vector<double> lengths_m;              // the dead-end streets' lengths, sorted
+    HighwayClass highway = HighwayClass::residential; // their most common class
+};
+CityCulDeSacs cul_de_sacs_of(const GeometricGraph& city, const std::vector<Vec2>& region);
+
+// Dead-end streets added to the grown blocks (inside the region), each as many as the city's
+// blocks of about its area hold on average, less those it has: each leaves a grown street at a
+// right angle into the block, as long as one of the city's, and keeps clear of every other
+// street. Returns how many were added.
+std::size_t make_cul_de_sacs(GeometricGraph& g, std::size_t base_edges, const std::vector<Vec2>& region,
+                             const CityCulDeSacs& city, std::mt19937_64& rng);
 
 } // namespace ggg::growth_detail

@@ -79,6 +79,9 @@ struct GrowOptions {
     // Grown junctions become roundabouts as often as the base's near the region are ones
     // (street_cleanup.hpp).
     bool roundabouts = true;
+    // Grown blocks get dead-end streets (cul-de-sacs, courts) as many as the base's blocks of
+    // about their area near the region hold (street_cleanup.hpp).
+    bool cul_de_sacs = true;
     // Last, grown streets are split where only two streets meet as often as the base's are
     // near the region (most maps split a street wherever one of its tags changes), so that
     // the grown district's graph has the city's share of such vertices (street_cleanup.hpp).
@@ -123,6 +126,8 @@ void visit_grow_options(Options& o, Visit&& visit) {
           o.trace_streets);
     visit("roundabouts", "--no-roundabouts", "Make no roundabouts: keep every grown junction a junction, whatever the base's are",
           o.roundabouts);
+    visit("cul_de_sacs", "--no-cul-de-sacs",
+          "Add no dead-end streets into the grown blocks, whatever the base's blocks of their size hold", o.cul_de_sacs);
     visit("split_streets", "--no-split-streets",
           "Keep grown streets whole between junctions: do not split them as often as the base's streets are split", o.split_streets);
 }
@@ -166,6 +171,7 @@ struct GrowReport {
     std::size_t t_junctions = 0;        // dead ends joined at the end to a grown street ahead, split there
     std::size_t pruned_stubs = 0;       // grown dead-end streets cut off at the end: the short ones, and longer ones while the grown streets end in the open more often than the city's
     std::size_t roundabouts = 0;        // grown junctions made roundabouts, as often as the city's junctions are ones
+    std::size_t cul_de_sacs = 0;        // dead-end streets added into grown blocks, as many as the city's blocks of their size hold
     std::size_t dissolved_vertices = 0; // grown vertices between two grown streets of one class (and nothing else), made bends of one street
     std::size_t split_vertices = 0;     // vertices added along grown streets, so that as many grown vertices are bends (two streets) as the city's around the region
     std::size_t removed_crossing_streets = 0; // grown streets taken out again because they crossed a street
