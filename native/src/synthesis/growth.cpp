@@ -166,7 +166,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.roundabouts = growth_detail::make_roundabouts(g_, base_vertices_, base_edges_, region_, base_roundabouts, rng_);
     }
     // Then the blocks get the city's dead-end streets (their junctions are no roundabouts).
-    if (o_.cul_de_sacs) report.cul_de_sacs = growth_detail::make_cul_de_sacs(g_, base_edges_, region_, base_cul_de_sacs, rng_);
+    if (o_.cul_de_sacs) report.cul_de_sacs = growth_detail::make_cul_de_sacs(g_, base_vertices_, base_edges_, region_, base_cul_de_sacs, rng_);
     // Last of all, the grown streets split as often as the base's streets around the region are.
     if (o_.split_streets) report.split_vertices = growth_detail::split_streets(g_, base_vertices_, base_edges_, city_bends, rng_);
     report.added_vertices = g_.vertex_count() - base_vertices_;

@@ -96,6 +96,7 @@ CityCulDeSacs cul_de_sacs_of(const GeometricGraph& city, const std::vector<Vec2>
     const Adjacency adjacency(city);
     const std::vector<std::size_t> first = first_rings(faces);
     std::map<HighwayClass, std::size_t> classes;
+    std::size_t across = 0, at_crossings = 0;
     for (std::size_t f = 0; f < faces.face_count(); ++f) {
         if (first[f] >= faces.ring_count() || faces.face_area[f] <= 0.0) continue;
         if ((face_centre(faces, first[f]) - centre).norm() > city_reach * size) continue;
@@ -122,18 +123,31 @@ CityCulDeSacs cul_de_sacs_of(const GeometricGraph& city, const std::vector<Vec2>
                 along = adjacency.edge_ids[o] == along ? adjacency.edge_ids[o + 1] : adjacency.edge_ids[o];
             }
             out.lengths_m.push_back(length);
+            // Whether it goes on across its junction from a street there (a crossing).
+            if (adjacency.degree(at) == 4) {
+                ++at_crossings;
+                const Vec2 leaving = leaving_direction(city, along, at).normalized();
+                for (auto k = adjacency.offsets[static_cast<std::size_t>(at)]; k < adjacency.offsets[static_cast<std::size_t>(at) + 1]; ++k) {
+                    const EdgeId other = adjacency.edge_ids[static_cast<std::size_t>(k)];
+                    if (other != along && leaving.dot(leaving_direction(city, other, at).normalized()) <= -std::cos(20.0 * M_PI / 180.0)) {
+                        ++across;
+                        break;
+                    }
+                }
+            }
         }
         out.blocks.emplace_back(faces.face_area[f], dead_ends);
     }
     std::sort(out.blocks.begin(), out.blocks.end());
     std::sort(out.lengths_m.begin(), out.lengths_m.end());
+    if (!out.lengths_m.empty()) out.across_share = static_cast<double>(across) / static_cast<double>(out.lengths_m.size());
     if (!classes.empty()) {
         out.highway = std::max_element(classes.begin(), classes.end(), [](const auto& x, const auto& y) { return x.second < y.second; })->first;
     }
     return out;
 }
 
-std::size_t make_cul_de_sacs(GeometricGraph& g, std::size_t base_edges, const std::vector<Vec2>& region,
+std::size_t make_cul_de_sacs(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const std::vector<Vec2>& region,
                              const CityCulDeSacs& city, std::mt19937_64& rng) {
     if (city.lengths_m.size() < 4 || g.edge_count() <= base_edges) return 0;
     const double median = city.lengths_m[city.lengths_m.size() / 2];
@@ -169,6 +183,7 @@ std::size_t make_cul_de_sacs(GeometricGraph& g, std::size_t base_edges, const st
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     auto fit = [&](const Vec2& root, const Vec2& into) -> std::optional<Vec2> {
         const double drawn = city.lengths_m[std::min(city.lengths_m.size() - 1, static_cast<std::size_t>(unit(rng) * static_cast<double>(city.lengths_m.size())))];
+        if (!inside(region, root)) return std::nullopt; // (a grown street may leave the region to join the base)
         for (double l = drawn; l >= shortest; l *= 0.75) {
             const Vec2 end = root + l * into;
             if (!inside(region, end) || !clear_of_streets(root, end)) continue;
@@ -205,28 +220,57 @@ std::size_t make_cul_de_sacs(GeometricGraph& g, std::size_t base_edges, const st
             w.second = faces.face_edge_reversed[static_cast<std::size_t>(i)] != 0;
         }
         auto grown_once = [&](EdgeId e) { return static_cast<std::size_t>(e) >= base_edges && walked[e].first == 1; };
-        // Where the walk bends at a grown vertex of two grown streets, nearly straight on, the
-        // dead-end street leaves from that vertex: no street is cut shorter for it.
-        std::vector<std::pair<VertexId, Vec2>> bends;
+        // Where the walk goes on nearly straight at a grown vertex between two grown streets,
+        // the dead-end street leaves from that vertex, so that no street is cut shorter for it:
+        // at a bend (two streets), at a right angle; at a T-junction whose third street leaves
+        // on the other side (a T's bar, walked), straight on across from that street, which
+        // makes the T a crossing, as often as the city's dead-end streets meet a crossing so.
+        std::vector<std::pair<VertexId, Vec2>> bends, across;
         for (auto i = begin; i < end; ++i) {
             const auto here = static_cast<std::size_t>(i), next = static_cast<std::size_t>(i + 1 < end ? i + 1 : begin);
             const VertexId v = head(g, faces, here);
             const EdgeId e1 = faces.face_edges[here], e2 = faces.face_edges[next];
-            if (e1 == e2 || adjacency.degree(v) != 2 || used[static_cast<std::size_t>(v)] || !grown_once(e1) || !grown_once(e2)) continue;
+            const std::size_t degree = adjacency.degree(v);
+            if (e1 == e2 || (degree != 2 && degree != 3) || static_cast<std::size_t>(v) < base_vertices || used[static_cast<std::size_t>(v)] ||
+                !grown_once(e1) || !grown_once(e2)) {
+                continue;
+            }
             const Vec2 in = -leaving_direction(g, e1, v).normalized(), out = leaving_direction(g, e2, v).normalized();
             if (in.dot(out) < std::cos(30.0 * M_PI / 180.0)) continue;
             const Vec2 tangent = (in + out).normalized();
-            bends.emplace_back(v, Vec2(-tangent.y(), tangent.x()));
+            const Vec2 left(-tangent.y(), tangent.x());
+            if (degree == 2) {
+                bends.emplace_back(v, left);
+                continue;
+            }
+            const auto o = static_cast<std::size_t>(adjacency.offsets[static_cast<std::size_t>(v)]);
+            for (std::size_t k = o; k < o + 3; ++k) {
+                const EdgeId stem = adjacency.edge_ids[k];
+                if (stem == e1 || stem == e2) continue;
+                const Vec2 on = -leaving_direction(g, stem, v).normalized();
+                if (on.dot(left) >= std::cos(20.0 * M_PI / 180.0)) across.emplace_back(v, on);
+            }
         }
         std::shuffle(bends.begin(), bends.end(), rng);
+        std::shuffle(across.begin(), across.end(), rng);
         std::size_t made = 0;
-        for (const auto& [v, into] : bends) {
-            if (made == wanted) break;
-            if (auto tip = fit(g.positions[static_cast<std::size_t>(v)], into)) {
-                used[static_cast<std::size_t>(v)] = 1;
-                spurs.push_back({-1, 0.0, v, *tip});
-                ++made;
+        auto from_vertex = [&](std::vector<std::pair<VertexId, Vec2>>& roots) {
+            while (!roots.empty()) {
+                const auto [v, into] = roots.back();
+                roots.pop_back();
+                if (used[static_cast<std::size_t>(v)]) continue;
+                if (auto tip = fit(g.positions[static_cast<std::size_t>(v)], into)) {
+                    used[static_cast<std::size_t>(v)] = 1;
+                    spurs.push_back({-1, 0.0, v, *tip});
+                    return true;
+                }
             }
+            return false;
+        };
+        while (made < wanted) {
+            const bool cross_first = unit(rng) < city.across_share;
+            if (!from_vertex(cross_first ? across : bends) && !from_vertex(cross_first ? bends : across)) break;
+            ++made;
         }
         // Else from a point along one of its grown streets, split there.
         std::vector<std::pair<EdgeId, bool>> hosts;

@@ -86,15 +86,17 @@ std::vector<std::vector<VertexId>> split_edges_at(GeometricGraph& g, std::vector
 struct CityCulDeSacs {
     std::vector<std::pair<double, int>> blocks; // (area m^2, dead ends in it), by area
     std::vector<double> lengths_m;              // the dead-end streets' lengths, sorted
+    double across_share = 0.0; // of them, those that go on across a crossing from a street there
     HighwayClass highway = HighwayClass::residential; // their most common class
 };
 CityCulDeSacs cul_de_sacs_of(const GeometricGraph& city, const std::vector<Vec2>& region);
 
 // Dead-end streets added to the grown blocks (inside the region), each as many as the city's
 // blocks of about its area hold on average, less those it has: each leaves a grown street at a
-// right angle into the block, as long as one of the city's, and keeps clear of every other
-// street. Returns how many were added.
-std::size_t make_cul_de_sacs(GeometricGraph& g, std::size_t base_edges, const std::vector<Vec2>& region,
+// right angle into the block (or goes on across a T-junction from its third street, as often
+// as the city's go on across a crossing), as long as one of the city's, and keeps clear of
+// every other street. Returns how many were added.
+std::size_t make_cul_de_sacs(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const std::vector<Vec2>& region,
                              const CityCulDeSacs& city, std::mt19937_64& rng);
 
 } // namespace ggg::growth_detail
