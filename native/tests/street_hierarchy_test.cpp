@@ -346,9 +346,10 @@ TEST(StreetHierarchy, MainRoadsOfColumbusMeetAcrossAGrownStrip) {
     o.seed = 3;
     // The hierarchy on streets grown from rules alone: traced streets (street_tracing.hpp)
     // continue the main roads themselves, as main roads. (Streets split after it would not
-    // be split before it.)
+    // be split before it, nor dead-end streets added after it be there before it.)
     o.trace_streets = false;
     o.split_streets = false;
+    o.cul_de_sacs = false;
     const std::vector<Vec2> strip{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
     const GeometricGraph grown = grow_region(base, grammar, strip, o, &report);
     ASSERT_GT(report.placements + report.traced_streets, 20u);
