@@ -126,6 +126,9 @@ def test_grow_into_a_rectangle(town, ggg, reports, op_results, kind):
     # The town's roundabout makes roundabouts of some grown junctions, and the summary says so.
     assert report["roundabouts"] >= 1
     assert "; {} roundabout{};".format(report["roundabouts"], "" if report["roundabouts"] == 1 else "s") in message, message
+    # So do the dead-end streets the town's blocks of their size hold.
+    assert report["cul_de_sacs"] >= 1
+    assert "; {} dead-end street{}".format(report["cul_de_sacs"], "" if report["cul_de_sacs"] == 1 else "s") in message, message
 
     # In place: same object, name and mesh datablock; the base first, then the grown streets.
     assert town.name == "sample_city" and town.data == mesh and roads.surface_object(town) == surface_obj

@@ -274,6 +274,8 @@ class ROADS_OT_grow_region(GrowSettings, ModalJobOperator, Operator):
             parts.append("{} led on to the new streets".format(plural(report["main_road_extensions"], "main road")))
         if report.get("roundabouts"):
             parts.append(plural(report["roundabouts"], "roundabout"))
+        if report.get("cul_de_sacs"):
+            parts.append(plural(report["cul_de_sacs"], "dead-end street"))
         if placed:
             parts.append("{} grown".format(plural(placed, "placed rule")))
         if report["stopped_by_budget"]:
