@@ -81,6 +81,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"traced_t_junctions", r.traced_t_junctions},
         {"traced_dense", r.traced_dense},
         {"traced_across", r.traced_across},
+        {"traced_avenues", r.traced_avenues},
         {"traced_crossed", r.traced_crossed},
         {"added_vertices", r.added_vertices},
         {"added_edges", r.added_edges},

@@ -113,6 +113,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_t_junctions = traced.t_junctions;
         report.traced_dense = traced.dense;
         report.traced_across = traced.across;
+        report.traced_avenues = traced.avenues;
         report.traced_crossed = traced.crossed;
         street_density_ = traced.density;
         junction_density_ = traced.junction_density;

@@ -29,6 +29,7 @@ struct TracingReport {
     std::size_t dropped = 0;      // streets that fitted nowhere
     std::size_t dense = 0;        // streets not traced: the streets around were as dense as the city's
     std::size_t across = 0;       // streets joined straight across to a street that faces them
+    std::size_t avenues = 0;      // main roads running straight across the grid laid on until two meet
     std::size_t crossed = 0;      // streets sent on across a street they met, as often as the city's junctions are crossings
     // What tracing measured of the city, for the rules placed after it: metres of street per
     // square metre of the ground next to the region (0: too little ground to say), and the

@@ -219,6 +219,18 @@ private:
         HighwayClass highway = HighwayClass::residential;
     };
 
+    // A loose end of the base at the region's border, pointing into it.
+    struct End {
+        VertexId v;
+        Vec2 ahead;
+        HighwayClass highway;
+    };
+
+    // Main roads that run straight across the grid up to the region (not `used` by a street
+    // joined across) go on straight into it, two by two, to where their lines meet, crossing
+    // the streets joined across on the way; they are added to `laid`.
+    void lay_avenues(const std::vector<End>& ends, std::vector<char>& used, std::vector<Across>& laid);
+
     // Junctions along a street joined across, spaced as the city's streets run from junction
     // to junction, each opening the side streets of one of the city's junctions (traced then
     // as any other).

@@ -163,6 +163,7 @@ struct GrowReport {
     std::size_t traced_t_junctions = 0; // traced streets that ended on a street, split there
     std::size_t traced_dense = 0;       // streets not traced: the streets around were already as dense as the city's
     std::size_t traced_across = 0;      // streets of the base joined straight across to one facing them
+    std::size_t traced_avenues = 0;     // main roads across the grid laid on straight until two meet
     std::size_t traced_crossed = 0;     // traced streets sent on across a street they met, as often as the city's junctions are crossings
     std::size_t added_vertices = 0;
     std::size_t added_edges = 0;
