@@ -48,11 +48,16 @@ def test_a_hole_grown_back_meets_the_targets(city, seeds):
 
 # Krems (a small town in vineyards): tracing leaves much of its hole open, and the rules placed
 # after it fill that ground. They keep to the city's density of streets next to the hole as
-# tracing does; as densely as they fit, seed 1 grew 1.79 times the hole's streets.
-def test_rules_placed_after_tracing_keep_to_the_city_density():
-    row = bench_infill.measure("krems_at.osm.gz", [1])[0]
-    assert 0.6 <= row["fill"] <= 1.6, row
-    assert row["crossings"] == 0 and row["continued"] >= 0.85, row
+# tracing does; as densely as they fit, seed 1 grew 1.79 times the hole's streets. The stubs
+# their rules leave are cut while the grown streets end in the open more often than the city's;
+# counted among all grown vertices, of which the bends are dissolved later, seed 1 kept 0.24 of
+# its vertices at dead ends and seed 2 0.17, against the hole's 0.11. Among the ends and
+# junctions, in the city as in the grown streets, 0.14 on both.
+def test_rules_placed_after_tracing_keep_to_the_city_density_and_dead_ends():
+    for row in bench_infill.measure("krems_at.osm.gz", [1, 2]):
+        assert 0.6 <= row["fill"] <= 1.6, row
+        assert row["dead"] <= row["real_dead"] + 0.05, row
+        assert row["crossings"] == 0 and row["continued"] >= 0.85, row
 
 
 # Baltimore is a grid of crossings (300 of the hole's 470 junctions). A traced street that

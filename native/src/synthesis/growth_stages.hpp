@@ -136,8 +136,9 @@ private:
     // so that a street is shortened by one stub at most.
     void prune_stubs();
 
-    // The share of dead ends among the base's vertices around the region, `margin` metres
-    // clear of it and of the extract's edges; none where there are too few to say.
+    // The share of dead ends among the base's ends and junctions (its vertices of other than two
+    // streets) around the region, `margin` metres clear of it and of the extract's edges; none
+    // where there are too few to say.
     std::optional<double> city_dead_end_share(double margin) const;
 
     // The dead end v continued straight ahead onto the first street it meets within reach,
