@@ -84,7 +84,9 @@ void Tracer::join_across() {
             const bool straight_on = std::max(turn_a, turn_b) <= kStraightTurn && aside <= kStraightAside * length;
             // A main road cut in two goes on across where no grid would join it: in a city
             // not on a grid (Rome's dual carriageways), or across the grid (a diagonal avenue).
-            // Along a grid, the grid's streets are joined as below.
+            // Along a grid, the grid's streets are joined as below. Only a road that runs
+            // straight up to the cut on one side at least: two ends of Monaco's winding roads
+            // that happened to face each other were crossed by a straight road 1.3 km long.
             auto along_grid = [&](const Vec2& end) {
                 const std::optional<double> grid = local_grid(end);
                 if (!grid) return false;
@@ -92,7 +94,7 @@ void Tracer::join_across() {
                 return std::abs(off - std::round(off / (M_PI / 2)) * (M_PI / 2)) <= kAcrossGrid;
             };
             if (straight_on && main_class(ends[i].highway) && main_class(ends[j].highway) &&
-                !(s_.grid_city && (along_grid(a) || along_grid(b)))) {
+                !(s_.grid_city && (along_grid(a) || along_grid(b))) && (runs_straight(ends[i]) || runs_straight(ends[j]))) {
                 pairs.emplace_back(std::max(turn_a, turn_b), i, j, true);
                 continue;
             }
@@ -198,11 +200,42 @@ void Tracer::join_across() {
     for (const Across& street : laid) open_junctions(street);
 }
 
+bool Tracer::runs_straight(const End& end) const {
+    // Straight for two typical streets back from the cut, through the junctions on the way
+    // (on along the street that goes on straightest, within a few degrees).
+    const VertexId v = end.v;
+    const Vec2 p = g_.positions[static_cast<std::size_t>(v)];
+    double run = 0.0, aside = 0.0;
+    VertexId at = v;
+    EdgeId e = adjacency_[static_cast<std::size_t>(v)][0];
+    for (int steps = 0; steps < 16 && run < 2.0 * typical_; ++steps) {
+        const Vec2* pts = g_.geometry_begin(e);
+        for (std::size_t k = 0; k < g_.geometry_size(e); ++k) {
+            const Vec2 d = pts[k] - p;
+            run = std::max(run, -d.dot(end.ahead));
+            aside = std::max(aside, std::abs(cross(end.ahead, d)));
+        }
+        const VertexId next = other_end(e, at);
+        const Vec2 back = g_.positions[static_cast<std::size_t>(next)] - g_.positions[static_cast<std::size_t>(at)];
+        EdgeId on = -1;
+        double straightest = kAvenueTurn;
+        for (const EdgeId f : adjacency_[static_cast<std::size_t>(next)]) {
+            if (f == e) continue;
+            const Vec2 d = leaving(g_, f, next) - g_.positions[static_cast<std::size_t>(next)];
+            const double turn = std::abs(wrap(angle_of(d) - angle_of(back)));
+            if (turn < straightest) straightest = turn, on = f;
+        }
+        if (on < 0) break;
+        at = next;
+        e = on;
+    }
+    return run >= 2.0 * typical_ && aside <= std::max(3.0, std::tan(kAvenueTurn) * run);
+}
+
 void Tracer::lay_avenues(const std::vector<End>& ends, std::vector<char>& used, std::vector<Across>& laid) {
     // A main road that runs straight across the grid up to the region (Washington's diagonal
-    // avenues) goes on straight into it until it meets a main road laid across, in a junction;
-    // one laid so is met in turn by the next. Traced from the city's junctions instead, each
-    // would turn onto the grid at its first junction.
+    // avenues) goes on straight into it, to where it meets another such road. Traced from the
+    // city's junctions instead, each would turn onto the grid at its first junction.
     const double spacing = 0.3 * typical_;
     const double room = std::min(spacing, kCarriagewaysApart);
     std::vector<std::size_t> avenues;
@@ -214,33 +247,7 @@ void Tracer::lay_avenues(const std::vector<End>& ends, std::vector<char>& used, 
         if (!grid) continue;
         const double off = wrap(angle_of(ends[i].ahead) - *grid);
         if (std::abs(off - std::round(off / (M_PI / 2)) * (M_PI / 2)) <= kAcrossGrid) continue; // along the grid
-        // Straight for two typical streets back from the cut, through the junctions on the way
-        // (on along the street that goes on straightest, within a few degrees).
-        double run = 0.0, aside = 0.0;
-        VertexId at = v;
-        EdgeId e = adjacency_[static_cast<std::size_t>(v)][0];
-        for (int steps = 0; steps < 16 && run < 2.0 * typical_; ++steps) {
-            const Vec2* pts = g_.geometry_begin(e);
-            for (std::size_t k = 0; k < g_.geometry_size(e); ++k) {
-                const Vec2 d = pts[k] - p;
-                run = std::max(run, -d.dot(ends[i].ahead));
-                aside = std::max(aside, std::abs(cross(ends[i].ahead, d)));
-            }
-            const VertexId next = other_end(e, at);
-            const Vec2 back = g_.positions[static_cast<std::size_t>(next)] - g_.positions[static_cast<std::size_t>(at)];
-            EdgeId on = -1;
-            double straightest = kAvenueTurn;
-            for (const EdgeId f : adjacency_[static_cast<std::size_t>(next)]) {
-                if (f == e) continue;
-                const Vec2 d = leaving(g_, f, next) - g_.positions[static_cast<std::size_t>(next)];
-                const double turn = std::abs(wrap(angle_of(d) - angle_of(back)));
-                if (turn < straightest) straightest = turn, on = f;
-            }
-            if (on < 0) break;
-            at = next;
-            e = on;
-        }
-        if (run >= 2.0 * typical_ && aside <= std::max(3.0, std::tan(kAvenueTurn) * run)) avenues.push_back(i);
+        if (runs_straight(ends[i])) avenues.push_back(i);
     }
     // The crossings of a leg from `a` to `x` (way along, street): only of streets laid across,
     // at kAvenueAngle or more, with room between the junctions; none when it does not fit.

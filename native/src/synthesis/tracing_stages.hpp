@@ -226,6 +226,10 @@ private:
         HighwayClass highway;
     };
 
+    // Whether the base's street runs straight up to `end`, for two typical streets back from it
+    // (through the junctions on its way).
+    bool runs_straight(const End& end) const;
+
     // Main roads that run straight across the grid up to the region (not `used` by a street
     // joined across) go on straight into it, two by two, to where their lines meet, crossing
     // the streets joined across on the way; they are added to `laid`.
