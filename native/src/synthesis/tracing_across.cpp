@@ -183,14 +183,9 @@ void Tracer::join_across() {
         std::sort(hits.begin(), hits.end());
         for (std::size_t k = 1; k < hits.size(); ++k) fits = fits && (hits[k].first - hits[k - 1].first) * length >= room;
         if (!fits) continue;
-        // Laid: a junction at every crossing, the street in pieces between them.
-        VertexId last = from;
-        for (const auto& [t, e] : hits) {
-            const VertexId x = split(e, a + t * d);
-            add_street(last, x, {g_.positions[static_cast<std::size_t>(last)], g_.positions[static_cast<std::size_t>(x)]}, ends[i].highway);
-            last = x;
-        }
-        add_street(last, to, {g_.positions[static_cast<std::size_t>(last)], b}, ends[i].highway);
+        std::vector<std::pair<EdgeId, Vec2>> crossings;
+        for (const auto& [t, e] : hits) crossings.emplace_back(e, a + t * d);
+        lay_straight(from, to, crossings, ends[i].highway);
         used[i] = used[j] = 1;
         across_[static_cast<std::size_t>(from)] = across_[static_cast<std::size_t>(to)] = 1;
         laid.push_back({from, to, ends[i].highway});
@@ -314,7 +309,7 @@ void Tracer::lay_avenues(const std::vector<End>& ends, std::vector<char>& used, 
         const auto first = leg(ends[i].v, a, x);
         const auto second = leg(ends[j].v, b, x);
         if (!first || !second) continue;
-        // (The two legs cross nothing in common but near their meeting.)
+        // (Not two legs across one street: each is split where it was before either.)
         bool shared = false;
         for (const auto& [t, e] : *first) {
             for (const auto& [u, f] : *second) shared = shared || e == f;
@@ -325,19 +320,26 @@ void Tracer::lay_avenues(const std::vector<End>& ends, std::vector<char>& used, 
             const VertexId from = ends[k].v;
             const Vec2 p = g_.positions[static_cast<std::size_t>(from)];
             const Vec2 u = (x - p).normalized();
-            VertexId last = from;
-            for (const auto& [t, e] : hits) {
-                const VertexId c = split(e, p + t * u);
-                add_street(last, c, {g_.positions[static_cast<std::size_t>(last)], g_.positions[static_cast<std::size_t>(c)]}, ends[k].highway);
-                last = c;
-            }
-            add_street(last, meeting, {g_.positions[static_cast<std::size_t>(last)], x}, ends[k].highway);
+            std::vector<std::pair<EdgeId, Vec2>> crossings;
+            for (const auto& [t, e] : hits) crossings.emplace_back(e, p + t * u);
+            lay_straight(from, meeting, crossings, ends[k].highway);
             used[k] = 1;
             across_[static_cast<std::size_t>(from)] = 1;
             laid.push_back({from, meeting, ends[k].highway});
             ++report_.avenues;
         }
     }
+}
+
+void Tracer::lay_straight(VertexId from, VertexId to, const std::vector<std::pair<EdgeId, Vec2>>& crossings, HighwayClass highway) {
+    // A junction at every crossing, the street in pieces between them.
+    VertexId last = from;
+    for (const auto& [e, at] : crossings) {
+        const VertexId x = split(e, at);
+        add_street(last, x, {g_.positions[static_cast<std::size_t>(last)], g_.positions[static_cast<std::size_t>(x)]}, highway);
+        last = x;
+    }
+    add_street(last, to, {g_.positions[static_cast<std::size_t>(last)], g_.positions[static_cast<std::size_t>(to)]}, highway);
 }
 
 void Tracer::open_junctions(const Across& street) {

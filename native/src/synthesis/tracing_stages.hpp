@@ -226,6 +226,10 @@ private:
         HighwayClass highway;
     };
 
+    // A straight street from `from` to `to` (vertices there), split into a junction at each of
+    // `crossings` (a street and where it is crossed, in order along the way).
+    void lay_straight(VertexId from, VertexId to, const std::vector<std::pair<EdgeId, Vec2>>& crossings, HighwayClass highway);
+
     // Whether the base's street runs straight up to `end`, for two typical streets back from it
     // (through the junctions on its way).
     bool runs_straight(const End& end) const;
