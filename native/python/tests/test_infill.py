@@ -248,10 +248,49 @@ def test_a_main_road_cut_in_two_goes_on_straight_across_the_hole():
 # its grid, every avenue turned onto the grid at its first junction: 0.78 to 0.81 square, and
 # `ggg compare` 1.49 to 1.61 times the ring's. The main roads that run straight across the grid
 # up to the hole go on into it two by two, to where their lines meet.
+# Washington's hole is sparser than the ring around it (median block 12,800 m2 against 8,300):
+# over nine seeds its compare distance is 1.41-1.73 times the ring's (docs/synthesis.md), and
+# was 1.42-1.62 while a traced street could be bent onto a street beside it and run on along it
+# (seed 1 had nine such streets lying on others).
 def test_avenues_across_a_grid_go_on_across_the_hole_until_they_meet():
     for row in bench_infill.measure("washington_dc.osm.pbf", [1, 2]):
         assert row["avenues"] >= 2, row
         assert row["right"] <= 0.78, row
-        assert row["mean"] <= 1.5 * row["ring_mean"], row
+        assert row["mean"] <= 1.6 * row["ring_mean"], row
         assert 0.6 <= row["fill"] <= 1.6 and row["crossings"] == 0 and row["continued"] >= 0.85, row
         assert row["shared_places"] == 0, row
+
+
+# Streets joined at the end of growth (a dead end to a vertex or a street ahead, a main road
+# carried on to a grown street, a traced street bent onto one beside it) were joined at any
+# angle: Helsinki's hole grew junctions of 1 to 20 degrees, slivers of blocks and two streets
+# running on side by side. They meet at 30 degrees or more now, less only where the city's
+# own junctions are narrower (a carriageway merging into the street beside it at 10 or more).
+def test_streets_joined_at_the_end_of_growth_meet_at_no_sliver_angles():
+    graph = bench_infill.ggg.read_graph(str(bench_infill.OSM / "helsinki_centre.osm.pbf"))
+    x0, y0, x1, y1 = bench_infill.hole_of(graph)
+    rest, _, _ = bench_infill.cut_hole(graph, (x0, y0, x1, y1))
+    grammar, _ = bench_infill.ggg.learn(rest)
+    corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+    for seed in (1, 2, 3):
+        grown, report = bench_infill.ggg.grow_region(rest, grammar, corners, seed=seed)
+        offsets, points = grown.edge_geometry()
+        edges = np.asarray(grown.edges)
+        bearings = {}  # vertex -> bearing (degrees) of each street leaving it, and whether it grew
+        for e in range(grown.edge_count):
+            line = points[offsets[e]:offsets[e + 1]]
+            for v, d in ((edges[e][0], line[1] - line[0]), (edges[e][1], line[-2] - line[-1])):
+                bearings.setdefault(v, []).append((np.degrees(np.arctan2(d[1], d[0])), e >= rest.edge_count))
+        angles = []
+        for v, streets in bearings.items():
+            if len(streets) < 3 or not any(grown_street for _, grown_street in streets):
+                continue
+            streets.sort()
+            for i, (bearing, _) in enumerate(streets):
+                angles.append((streets[(i + 1) % len(streets)][0] - bearing) % 360)
+        angles = np.array(angles)
+        assert len(angles) > 50, (seed, report)
+        # (Seeds 1 to 3 had 1.1, 8.8 and 13.1 degrees; the city around the hole has 5 % of
+        # its angles under 30 degrees, the grown district one in 76 to 87, of 17 to 20.)
+        assert angles.min() >= 15, (seed, sorted(angles)[:5])
+        assert np.mean(angles < 30) <= 0.02, (seed, sorted(angles)[:10])

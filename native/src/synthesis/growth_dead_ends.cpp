@@ -13,6 +13,35 @@ namespace ggg::growth_detail {
 
 using namespace spatial; // bg, bgi, Point, Box, point, RTree, VertexEntry, EdgeEntry
 
+namespace {
+
+// A street that joins a dead end to a vertex or a street meets the streets there at this
+// angle at least, as traced streets do (tracing_stages.hpp): a narrower one leaves a sliver
+// of a block, or two streets running on side by side (Helsinki grew junctions of 1 to 17
+// degrees where carriageways and stubs were joined). Less where the city's own junctions are
+// narrower (city_narrow_angle: Monaco's hairpins, Washington's avenues).
+constexpr double kMinJoinAngle = M_PI / 6;
+// But a street of the base the region cut is continued wherever it can be, and a carriageway
+// merges into the street beside it as roads do, at a narrow angle (Helsinki's dual
+// carriageways at 10 to 17 degrees).
+constexpr double kMinMergeAngle = M_PI / 18;
+
+} // namespace
+
+double Grower::clearance_at(VertexId w, const Vec2& d) const {
+    double smallest = M_PI;
+    const Vec2 pw = g_.positions[static_cast<std::size_t>(w)];
+    for (auto it = segments_.qbegin(bgi::intersects(point(pw))); it != segments_.qend(); ++it) {
+        const EdgeId e = it->second;
+        const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
+        if (a != w && b != w) continue;
+        const Vec2 other = (a == w ? g_.geometry_begin(e)[1] : g_.geometry_begin(e)[g_.geometry_size(e) - 2]) - pw;
+        if (other.norm() < 1e-9 || d.norm() < 1e-9) continue;
+        smallest = std::min(smallest, std::acos(std::clamp(other.normalized().dot(d.normalized()), -1.0, 1.0)));
+    }
+    return smallest;
+}
+
 bool Grower::closes_small_block(VertexId v, VertexId w) {
     adjacency_[static_cast<std::size_t>(v)].push_back(w);
     adjacency_[static_cast<std::size_t>(w)].push_back(v);
@@ -30,6 +59,7 @@ void Grower::close_dead_ends() {
     if (lengths.empty() || o_.close_dead_ends <= 0) return;
     std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
     const double reach = o_.close_dead_ends * lengths[lengths.size() / 2];
+    const double narrow = city_narrow_angle(2.0 * lengths[lengths.size() / 2]);
     // The dead ends to join: the grown ones, and those of the base that reach the region
     // (a street cut at its border, pointing in) where nothing was grown on: a street that
     // reaches the region is joined to what grew there, even where tracing could not carry
@@ -81,6 +111,7 @@ void Grower::close_dead_ends() {
             if (length >= best_d || d.dot(ahead) < 0.7 * length || std::find(n.begin(), n.end(), w) != n.end()) continue;
             if (!inside(region_, 0.5 * (p + g_.positions[static_cast<std::size_t>(w)]))) continue; // stays in the region
             if (crosses(p, g_.positions[static_cast<std::size_t>(w)])) continue;
+            if (clearance_at(w, -d) < (from_base ? kMinMergeAngle : narrow)) continue;
             if (min_block_m2_ > 0 && closes_small_block(static_cast<VertexId>(v), w)) continue;
             best = w;
             best_d = length;
@@ -97,7 +128,7 @@ void Grower::close_dead_ends() {
         if (best < 0) {
             // No vertex ahead: the grown street ahead, if there is one, gets a T-junction; a
             // street of the base, where none is straight ahead, merges into the one beside it.
-            if (join_street_ahead(static_cast<VertexId>(v), ahead, reach, attributes) ||
+            if (join_street_ahead(static_cast<VertexId>(v), ahead, reach, attributes, narrow) ||
                 (from_base && join_street_beside(static_cast<VertexId>(v), ahead, reach, attributes))) {
                 ++report_->t_junctions;
             }
@@ -213,28 +244,57 @@ void Grower::prune_stubs() {
     adjacency_ = std::move(around);
 }
 
-std::optional<double> Grower::city_dead_end_share(double margin) const {
+std::vector<VertexId> Grower::city_around(double margin) const {
     // The base's vertices near the region (within half its size beyond `margin`),
     // away from its border, where the cut left the severed streets' ends, and from the
     // extract's edges, where the map was cut.
     const auto base_end = g_.positions.begin() + static_cast<std::ptrdiff_t>(base_vertices_);
     const Eigen::AlignedBox2d extent = bounds(g_.positions.begin(), base_end);
     const double reach = margin + 0.5 * bounds(region_.begin(), region_.end()).sizes().maxCoeff();
-    std::size_t vertices = 0, dead_ends = 0;
+    std::vector<VertexId> around;
     for (std::size_t v = 0; v < base_vertices_; ++v) {
         const Vec2 p = g_.positions[v];
         if (adjacency_[v].empty() || (p - extent.min()).minCoeff() < margin || (extent.max() - p).minCoeff() < margin) continue;
         if (inside(region_, p) || adjacency_[v].size() == 2) continue; // (ends and junctions only)
         const double d = distance_to_ring(region_, p);
         if (d < margin || d > reach) continue;
-        ++vertices;
-        dead_ends += adjacency_[v].size() == 1;
+        around.push_back(static_cast<VertexId>(v));
     }
-    if (vertices < 20) return std::nullopt; // too few to say
-    return static_cast<double>(dead_ends) / static_cast<double>(vertices);
+    return around;
 }
 
-bool Grower::join_street_ahead(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes) {
+std::optional<double> Grower::city_dead_end_share(double margin) const {
+    const std::vector<VertexId> around = city_around(margin);
+    if (around.size() < 20) return std::nullopt; // too few to say
+    const auto dead_ends = std::count_if(around.begin(), around.end(), [&](VertexId v) { return adjacency_[static_cast<std::size_t>(v)].size() == 1; });
+    return static_cast<double>(dead_ends) / static_cast<double>(around.size());
+}
+
+double Grower::city_narrow_angle(double margin) const {
+    std::vector<double> angles, bearings;
+    for (const VertexId v : city_around(margin)) {
+        if (adjacency_[static_cast<std::size_t>(v)].size() < 3) continue;
+        bearings.clear();
+        const Vec2 pv = g_.positions[static_cast<std::size_t>(v)];
+        for (auto it = segments_.qbegin(bgi::intersects(point(pv))); it != segments_.qend(); ++it) {
+            const EdgeId e = it->second;
+            const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
+            if (a != v && b != v) continue;
+            const Vec2 d = (a == v ? g_.geometry_begin(e)[1] : g_.geometry_begin(e)[g_.geometry_size(e) - 2]) - pv;
+            if (d.norm() > 1e-9) bearings.push_back(std::atan2(d.y(), d.x()));
+        }
+        std::sort(bearings.begin(), bearings.end());
+        for (std::size_t i = 0; i < bearings.size(); ++i) {
+            angles.push_back((i + 1 < bearings.size() ? bearings[i + 1] : bearings.front() + 2 * M_PI) - bearings[i]);
+        }
+    }
+    if (angles.size() < 50) return kMinJoinAngle; // too few to say
+    auto narrow = angles.begin() + static_cast<std::ptrdiff_t>(0.03 * static_cast<double>(angles.size()));
+    std::nth_element(angles.begin(), narrow, angles.end());
+    return std::clamp(*narrow, kMinMergeAngle, kMinJoinAngle);
+}
+
+bool Grower::join_street_ahead(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes, double min_angle) {
     const Vec2 p = g_.positions[static_cast<std::size_t>(v)];
     const Vec2 end = p + reach * ahead;
     Box box(point(p), point(p));
@@ -255,7 +315,7 @@ bool Grower::join_street_ahead(VertexId v, const Vec2& ahead, double reach, cons
         }
     }
     if (hit < 0 || static_cast<std::size_t>(hit) < base_edges_) return false;
-    return t_junction(v, hit, p + first_t * (end - p), attributes);
+    return t_junction(v, hit, p + first_t * (end - p), attributes, min_angle);
 }
 
 bool Grower::join_street_beside(VertexId v, const Vec2& ahead, double reach, const EdgeAttributes& attributes) {
@@ -292,18 +352,28 @@ bool Grower::join_street_beside(VertexId v, const Vec2& ahead, double reach, con
         return false;
     };
     for (const auto& [length, e, x] : candidates) {
-        if (!crosses_another(x, e) && t_junction(v, e, x, attributes)) return true;
+        if (!crosses_another(x, e) && t_junction(v, e, x, attributes, kMinMergeAngle)) return true;
     }
     return false;
 }
 
-bool Grower::t_junction(VertexId v, EdgeId hit, const Vec2& x, const EdgeAttributes& attributes) {
+bool Grower::t_junction(VertexId v, EdgeId hit, const Vec2& x, const EdgeAttributes& attributes, double min_angle) {
     const Vec2 p = g_.positions[static_cast<std::size_t>(v)];
     const auto e = static_cast<std::size_t>(hit);
     const auto [a, b] = g_.edges[e];
     const double length = g_.edge_length(hit);
     const double keep = std::max(o_.spacing * length, 1e-6);
     if ((x - g_.positions[static_cast<std::size_t>(a)]).norm() < keep || (x - g_.positions[static_cast<std::size_t>(b)]).norm() < keep) return false;
+    {
+        // Across the street, not along it.
+        const Vec2* q = g_.geometry_begin(hit);
+        for (std::size_t i = 0; i + 1 < g_.geometry_size(hit); ++i) {
+            if (distance_to_segment(x, q[i], q[i + 1]) > 1e-6) continue;
+            const Vec2 along = q[i + 1] - q[i], in = x - p;
+            if (along.norm() > 1e-9 && in.norm() > 1e-9 && std::abs(cross(along.normalized(), in.normalized())) < std::sin(min_angle)) return false;
+            break;
+        }
+    }
     // The junction in the region too: a grown street may leave it to join one of the base.
     if (!inside(region_, x) || !inside(region_, 0.5 * (p + x))) return false;
     // The blocks on either side of the new street, with the junction in place.

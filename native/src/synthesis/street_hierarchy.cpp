@@ -227,8 +227,18 @@ std::optional<Extension> plan_extension(const GeometricGraph& g, const StreetInd
     Vec2 target = at;
     if (x.vertex >= 0) {
         target = g.positions[static_cast<std::size_t>(x.vertex)];
+        // At most four streets there, and the road meets them at 30 degrees or more: a
+        // narrower angle leaves a sliver of a block between it and a street beside it.
         int degree = 0;
-        for (const auto& [a, b] : g.edges) degree += a == x.vertex || b == x.vertex;
+        const Vec2 back = p - target;
+        for (std::size_t e = 0; e < g.edge_count(); ++e) {
+            const auto [a, b] = g.edges[e];
+            if (a != x.vertex && b != x.vertex) continue;
+            ++degree;
+            const Vec2 leaving = (a == x.vertex ? g.geometry_begin(static_cast<EdgeId>(e))[1]
+                                                : g.geometry_begin(static_cast<EdgeId>(e))[g.geometry_size(static_cast<EdgeId>(e)) - 2]) - target;
+            if (leaving.norm() > 1e-9 && back.norm() > 1e-9 && leaving.normalized().dot(back.normalized()) > std::cos(M_PI / 6)) return std::nullopt;
+        }
         if (degree >= 4) return std::nullopt;
     } else {
         // On a street, well clear of its ends, and across it rather than along it.
