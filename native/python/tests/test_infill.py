@@ -19,6 +19,16 @@ pytestmark = pytest.mark.skipif(not bench_infill.OSM.is_dir(),
                                 reason="needs the shared OpenStreetMap extracts in ../shared/osm")
 
 
+def hole_learned(city):
+    """The infill test's hole in `city`: (the rest of the city, its learned grammar, the hole's
+    corners, the hole as (x0, y0, x1, y1))."""
+    graph = bench_infill.ggg.read_graph(str(bench_infill.OSM / city))
+    x0, y0, x1, y1 = bench_infill.hole_of(graph)
+    rest, _, _ = bench_infill.cut_hole(graph, (x0, y0, x1, y1))
+    grammar, _ = bench_infill.ggg.learn(rest)
+    return rest, grammar, np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]), (x0, y0, x1, y1)
+
+
 # Columbus is a grid of 6,000 streets in its hole: one seed. It is also where joining the
 # base's loose ends once wrote past the end of a list (a vertex made by a T-junction on the way).
 @pytest.mark.parametrize("city, seeds", [("paris_marais.osm.pbf", [1, 2]), ("monaco.osm.pbf", [1, 2]),
@@ -92,12 +102,8 @@ def test_two_cities_stitched_continue_the_streets_that_reach_the_gap():
 # once it is in the region. Joining one on the way there added streets to the city around the
 # hole: in the Marais, 90 m and 173 m long between two of its streets, all outside the hole.
 def test_streets_traced_on_from_the_base_do_not_join_the_city_outside_the_region():
-    graph = bench_infill.ggg.read_graph(str(bench_infill.OSM / "paris_marais.osm.pbf"))
-    x0, y0, x1, y1 = bench_infill.hole_of(graph)
+    rest, grammar, corners, (x0, y0, x1, y1) = hole_learned("paris_marais.osm.pbf")
     side = x1 - x0
-    rest, _, _ = bench_infill.cut_hole(graph, (x0, y0, x1, y1))
-    grammar, _ = bench_infill.ggg.learn(rest)
-    corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
     margin = 0.02 * side
     for seed in (1, 2, 3):
         grown, _ = bench_infill.ggg.grow_region(rest, grammar, corners, seed=seed)
@@ -120,11 +126,7 @@ def test_streets_traced_on_from_the_base_do_not_join_the_city_outside_the_region
 # into its hole, made wedges of streets meeting at 15 to 17 degrees (36 to 45 pairs of streets
 # under 30 degrees); a placement that would meet a street that sharply is not made.
 def test_placed_rules_meet_no_street_at_a_sharp_corner():
-    graph = bench_infill.ggg.read_graph(str(bench_infill.OSM / "helsinki_centre.osm.pbf"))
-    x0, y0, x1, y1 = bench_infill.hole_of(graph)
-    rest, _, _ = bench_infill.cut_hole(graph, (x0, y0, x1, y1))
-    grammar, _ = bench_infill.ggg.learn(rest)
-    corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+    rest, grammar, corners, _ = hole_learned("helsinki_centre.osm.pbf")
     for seed in (1, 2):
         grown, report = bench_infill.ggg.grow_region(rest, grammar, corners, seed=seed, trace_streets=False,
                                                      continue_hierarchy=False, close_dead_ends=0, roundabouts=False,
@@ -267,11 +269,7 @@ def test_avenues_across_a_grid_go_on_across_the_hole_until_they_meet():
 # running on side by side. They meet at 30 degrees or more now, less only where the city's
 # own junctions are narrower (a carriageway merging into the street beside it at 10 or more).
 def test_streets_joined_at_the_end_of_growth_meet_at_no_sliver_angles():
-    graph = bench_infill.ggg.read_graph(str(bench_infill.OSM / "helsinki_centre.osm.pbf"))
-    x0, y0, x1, y1 = bench_infill.hole_of(graph)
-    rest, _, _ = bench_infill.cut_hole(graph, (x0, y0, x1, y1))
-    grammar, _ = bench_infill.ggg.learn(rest)
-    corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+    rest, grammar, corners, _ = hole_learned("helsinki_centre.osm.pbf")
     for seed in (1, 2, 3):
         grown, report = bench_infill.ggg.grow_region(rest, grammar, corners, seed=seed)
         offsets, points = grown.edge_geometry()

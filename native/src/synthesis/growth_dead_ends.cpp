@@ -28,15 +28,23 @@ constexpr double kMinMergeAngle = M_PI / 18;
 
 } // namespace
 
-double Grower::clearance_at(VertexId w, const Vec2& d) const {
-    double smallest = M_PI;
-    const Vec2 pw = g_.positions[static_cast<std::size_t>(w)];
-    for (auto it = segments_.qbegin(bgi::intersects(point(pw))); it != segments_.qend(); ++it) {
+std::vector<Vec2> Grower::first_pieces_at(VertexId v) const {
+    std::vector<Vec2> pieces;
+    const Vec2 pv = g_.positions[static_cast<std::size_t>(v)];
+    for (auto it = segments_.qbegin(bgi::intersects(point(pv))); it != segments_.qend(); ++it) {
         const EdgeId e = it->second;
         const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
-        if (a != w && b != w) continue;
-        const Vec2 other = (a == w ? g_.geometry_begin(e)[1] : g_.geometry_begin(e)[g_.geometry_size(e) - 2]) - pw;
-        if (other.norm() < 1e-9 || d.norm() < 1e-9) continue;
+        if (a != v && b != v) continue;
+        const Vec2 d = (a == v ? g_.geometry_begin(e)[1] : g_.geometry_begin(e)[g_.geometry_size(e) - 2]) - pv;
+        if (d.norm() > 1e-9) pieces.push_back(d);
+    }
+    return pieces;
+}
+
+double Grower::clearance_at(VertexId w, const Vec2& d) const {
+    double smallest = M_PI;
+    if (d.norm() < 1e-9) return smallest;
+    for (const Vec2& other : first_pieces_at(w)) {
         smallest = std::min(smallest, std::acos(std::clamp(other.normalized().dot(d.normalized()), -1.0, 1.0)));
     }
     return smallest;
@@ -275,14 +283,7 @@ double Grower::city_narrow_angle(double margin) const {
     for (const VertexId v : city_around(margin)) {
         if (adjacency_[static_cast<std::size_t>(v)].size() < 3) continue;
         bearings.clear();
-        const Vec2 pv = g_.positions[static_cast<std::size_t>(v)];
-        for (auto it = segments_.qbegin(bgi::intersects(point(pv))); it != segments_.qend(); ++it) {
-            const EdgeId e = it->second;
-            const auto [a, b] = g_.edges[static_cast<std::size_t>(e)];
-            if (a != v && b != v) continue;
-            const Vec2 d = (a == v ? g_.geometry_begin(e)[1] : g_.geometry_begin(e)[g_.geometry_size(e) - 2]) - pv;
-            if (d.norm() > 1e-9) bearings.push_back(std::atan2(d.y(), d.x()));
-        }
+        for (const Vec2& d : first_pieces_at(v)) bearings.push_back(std::atan2(d.y(), d.x()));
         std::sort(bearings.begin(), bearings.end());
         for (std::size_t i = 0; i < bearings.size(); ++i) {
             angles.push_back((i + 1 < bearings.size() ? bearings[i + 1] : bearings.front() + 2 * M_PI) - bearings[i]);

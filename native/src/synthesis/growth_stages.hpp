@@ -127,6 +127,9 @@ private:
     // there (along their first piece, as `ggg compare` measures junction angles); pi where none.
     double clearance_at(VertexId w, const Vec2& d) const;
 
+    // The first piece of each street at v, pointing away from it (zero-length ones left out).
+    std::vector<Vec2> first_pieces_at(VertexId v) const;
+
     // A dead end (a grown one, or one of the base that points into the region with nothing
     // grown on) is joined to the vertex ahead of it that is closest, where the joining street
     // crosses nothing: streets meet the ones around instead of stopping short.
