@@ -121,12 +121,13 @@ void expect_sizes(const std::string& path, const GeometricGraph& input, const Le
         EXPECT_LE(ratio[cbor], input.vertex_count() > 2000 ? most_large : most) << (cbor ? "CBOR" : "JSON");
     }
     // The sizes per level that the report gives: the graph's bytes less what each level
-    // saves is the grammar's size (0.85-1.04 of it on every extract today).
+    // saves is the grammar's size (0.92-1.15 of it on every extract today: the axiom's
+    // nonterminals, stored along a walk, take fewer bytes than learning counts for them).
     double estimate = static_cast<double>(graph_structure_bytes(input, quantum, true));
     for (const LevelReport& l : result.levels) estimate -= l.bytes_saved;
     const double cbor_bytes = static_cast<double>(grammar_bytes(result.grammar, true));
-    EXPECT_GT(estimate, 0.8 * cbor_bytes);
-    EXPECT_LT(estimate, 1.1 * cbor_bytes);
+    EXPECT_GT(estimate, 0.85 * cbor_bytes);
+    EXPECT_LT(estimate, 1.17 * cbor_bytes);
     std::printf("%s, %s: %zu vertices, %zu levels, %zu rules, axiom %zu vertices; grammar / graph %.3f (JSON) %.3f (CBOR); error max %.3g m mean %.3g m\n",
                 std::filesystem::path(path).filename().c_str(),
                 result.grammar.encoding.mode.c_str(), input.vertex_count(), levels, result.grammar.rules.size(),
@@ -154,7 +155,7 @@ TEST_P(LosslessCorpus, DecodesToExactlyTheInput) {
     const GeometricGraph decoded = decode_grammar(through_file(result.grammar));
     EXPECT_LE(expect_same_streets(input, decoded, lossless_bound_m), lossless_bound_m);
     EXPECT_GT(result.grammar.rules.size(), 0u) << "nothing repeats in a real city?";
-    expect_sizes(GetParam(), input, result, 1.2, 0.93);
+    expect_sizes(GetParam(), input, result, 1.17, 0.92);
     if (result.grammar.rules.empty()) return;
     // The levels are the rules' nesting: the derivation needs exactly that many steps.
     const std::vector<int> levels = rule_levels(result.grammar);
@@ -178,7 +179,7 @@ TEST_P(PaperCorpus, DecodedVerticesStayNearTheirStreets) {
     EXPECT_LE(result.roundtrip.mean_displacement_m, 3.0);
     // One vertex per place: decoding puts no two vertices where the input had one.
     EXPECT_LE(test::shared_places(decode_grammar(result.grammar)), test::shared_places(input));
-    expect_sizes(GetParam(), input, result, 1.08, 0.78);
+    expect_sizes(GetParam(), input, result, 1.05, 0.75);
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedOsm, PaperCorpus, testing::ValuesIn(test::corpus_files()), test_name);
@@ -215,6 +216,28 @@ TEST(GrammarLearning, CompleteEncodingReachesOneVertexAndDecodesExactly) {
         EXPECT_LE(paper.roundtrip.max_displacement_m, options.max_vertex_error_m + 0.01);
         std::printf("%s complete: %d levels, %zu rules, %zu B against %zu B\n", name, top, paper.grammar.rules.size(),
                     grammar_bytes(paper.grammar), graph_structure_bytes(input));
+    }
+}
+
+// The axiom's nonterminals are stored one after the other as steps: each is the nearest of
+// those not yet stored to the one before, so the steps are short.
+TEST(GrammarLearning, AxiomNonterminalsFollowAWalkToTheNearest) {
+    GGG_REQUIRE_CORPUS();
+    for (const char* name : {"krems_at.osm.gz", "washington_dc.osm.pbf"}) {
+        SCOPED_TRACE(name);
+        const LearnResult result = learn_grammar(read_graph(test::shared_osm_dir() + "/" + name));
+        std::vector<Vec2> walk;
+        for (const AxiomVertex& v : result.grammar.axiom_vertices) {
+            if (v.symbol) walk.push_back(v.position);
+        }
+        ASSERT_GE(walk.size(), 20u);
+        double walked = 0.0;
+        for (std::size_t i = 1; i < walk.size(); ++i) {
+            const double step = (walk[i] - walk[i - 1]).norm();
+            walked += step;
+            for (std::size_t j = i + 1; j < walk.size(); ++j) ASSERT_LE(step, (walk[j] - walk[i - 1]).norm() + 0.02) << "step " << i;
+        }
+        std::printf("%s: %zu nonterminals, walk %.0f m\n", name, walk.size(), walked);
     }
 }
 

@@ -84,6 +84,10 @@ struct InstanceDraft {
     Similarity2 fit;            // rule coordinates -> metres, least squares over the occurrence
     Similarity2 frame;          // the same with t = the nonterminal's position
     std::int32_t parent = -1;   // the instance whose rule placed this one's nonterminal
+    // Its number in the derivation order before the axiom's nonterminals were walked
+    // (order_axiom_nonterminals): which of equally joined instances gives its rule the
+    // embedding, whatever the order the file stores them in.
+    std::int32_t first_number = -1;
 };
 
 struct RuleDraft {
@@ -152,6 +156,10 @@ private:
     // The next level's graph: every occurrence replaced by its nonterminal, joined to what
     // the occurrence was joined to (the most important class where several streets merge).
     void contract(const std::vector<std::int32_t>& level_instances, const std::vector<char>& used);
+
+    // Orders the axiom's nonterminals along a walk through their positions: the packed
+    // axiom stores each position as a step from the one before.
+    void order_axiom_nonterminals();
 
     // Numbers the instances in the order the derivation meets them (the axiom's
     // nonterminals, then level by level the nonterminals each instance places), the order

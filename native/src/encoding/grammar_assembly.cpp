@@ -36,6 +36,52 @@ double closest_pair_distance(const std::vector<Vec2>& positions) {
 
 } // namespace
 
+void Encoder::order_axiom_nonterminals() {
+    namespace bgi = spatial::bgi;
+    using Entry = std::pair<spatial::Point, std::size_t>;
+    std::vector<std::size_t> slots; // where the nonterminals stand in graph_, in order
+    std::vector<Entry> entries;
+    for (std::size_t v = 0; v < nodes_.size(); ++v) {
+        if (!nodes_[v].nonterminal) continue;
+        entries.emplace_back(spatial::point(instances_[static_cast<std::size_t>(nodes_[v].id)].fit.t), v);
+        slots.push_back(v);
+    }
+    if (slots.size() < 3) return;
+    // A walk from each nonterminal to the nearest one not yet walked, starting beside the
+    // vertex before the first: consecutive positions are close, and their deltas short.
+    spatial::RTree<Entry> left(entries.begin(), entries.end());
+    Vec2 at = slots.front() > 0 ? graph_.positions[slots.front() - 1] : Vec2(entries.front().first.get<0>(), entries.front().first.get<1>());
+    std::vector<std::size_t> order; // per slot: the vertex of graph_ that goes there
+    order.reserve(slots.size());
+    while (!left.empty()) {
+        const auto it = left.qbegin(bgi::nearest(spatial::point(at), 1));
+        const Entry next = *it;
+        left.remove(next);
+        order.push_back(next.second);
+        at = {next.first.get<0>(), next.first.get<1>()};
+    }
+    std::vector<std::size_t> source(nodes_.size()); // new position -> old vertex
+    for (std::size_t v = 0; v < source.size(); ++v) source[v] = v;
+    for (std::size_t k = 0; k < slots.size(); ++k) source[slots[k]] = order[k];
+    GeometricGraph next;
+    next.origin = graph_.origin;
+    std::vector<Node> next_nodes;
+    std::vector<VertexId> new_id(graph_.vertex_count(), -1);
+    for (const std::size_t v : source) {
+        new_id[v] = next.add_vertex(graph_.positions[v]);
+        next.symbols.back() = graph_.symbols[v];
+        next.frames.back() = graph_.frames[v];
+        next_nodes.push_back(nodes_[v]);
+    }
+    for (std::size_t e = 0; e < graph_.edge_count(); ++e) {
+        EdgeAttributes attributes;
+        attributes.highway = graph_.edge_highway[e];
+        next.add_edge(new_id[static_cast<std::size_t>(graph_.edges[e][0])], new_id[static_cast<std::size_t>(graph_.edges[e][1])], attributes);
+    }
+    graph_ = std::move(next);
+    nodes_ = std::move(next_nodes);
+}
+
 void Encoder::number_in_derivation_order() {
     std::vector<std::int32_t> order; // new number -> old
     order.reserve(instances_.size());
@@ -234,11 +280,15 @@ void Encoder::embed(Grammar& grammar) {
         return effective_[inst].inverse().apply_linear(decoded_[static_cast<std::size_t>(l.y)] - decoded_[static_cast<std::size_t>(l.x)]);
     };
     // Each rule's own embedding (for placing it by hand, and for its instances to reuse):
-    // that of its best-joined instance.
+    // that of its best-joined instance, the first found of equals.
     std::vector<std::int32_t> best(grammar.rules.size(), -1);
     for (std::size_t i = 0; i < raw.size(); ++i) {
         const std::size_t r = enc.instances[i].symbol - 1;
-        if (best[r] < 0 || raw[i].size() > raw[static_cast<std::size_t>(best[r])].size()) best[r] = static_cast<std::int32_t>(i);
+        const auto b = static_cast<std::size_t>(best[r]);
+        if (best[r] < 0 || raw[i].size() > raw[b].size() ||
+            (raw[i].size() == raw[b].size() && instances_[i].first_number < instances_[b].first_number)) {
+            best[r] = static_cast<std::int32_t>(i);
+        }
     }
     std::vector<std::vector<std::pair<std::int32_t, EmbeddingPoint>>> rule_points(grammar.rules.size());
     for (std::size_t r = 0; r < grammar.rules.size(); ++r) {

@@ -40,6 +40,9 @@ LearnResult Encoder::run() {
     report(progress_, 0.92, "building the grammar");
     result_.axiom_edges = graph_.edge_count();
     number_in_derivation_order();
+    for (std::size_t i = 0; i < instances_.size(); ++i) instances_[i].first_number = static_cast<std::int32_t>(i);
+    order_axiom_nonterminals();
+    number_in_derivation_order();
     Grammar grammar = build_grammar();
     report(progress_, 0.94, "computing each instance's frame and residuals");
     simulate(grammar);
