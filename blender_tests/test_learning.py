@@ -487,6 +487,7 @@ def test_panels_draw(town, ggg):
     # The sizes in both encodings, and what each pass saved.
     assert "JSON: {:,} \u2192 {:,} bytes".format(stats["bytes"]["original"], stats["bytes"]["encoded"]) in text
     assert "CBOR: {:,} \u2192".format(stats["bytes"]["original_cbor"]) in text
+    assert "Graph CBOR: positions" in text and "Grammar CBOR: " in text
     assert "Pass 1: {}".format(plural(stats["per_level"][0]["rules"], "rule")) in text
     assert "of {}".format(stats["levels"]) in text and "Not the scene's grammar" not in text
     item = result.rules[0]

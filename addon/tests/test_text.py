@@ -52,3 +52,8 @@ def test_size_lines():
     assert text.size_lines(stats) == ["JSON: 5,000 \u2192 4,000 bytes (0.80\u00d7)", "CBOR: 2,500 \u2192 1,900 bytes (0.76\u00d7)",
                                       "Pass 1: 3 rules, saves 12.3k bytes", "Pass 2: 1 rule, costs 40 bytes"]
     assert text.size_lines({}) == []
+    stats["bytes"]["parts_cbor"] = {"original": {"positions": 1400, "edges": 1050, "header": 50},
+                                    "encoded": {"axiom_positions": 970, "links": 380, "residuals": 0, "header": 350,
+                                                "rules": 200}}
+    assert text.size_lines(stats)[2:4] == ["Graph CBOR: positions 1400, edges 1050, header 50",
+                                           "Grammar CBOR: axiom positions 970, links 380, header 350, rules 200"]

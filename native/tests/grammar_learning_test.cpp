@@ -312,6 +312,20 @@ TEST(GrammarLearning, AGridCityEncodesSmallerThanItsGraph) {
         EXPECT_EQ(report["bytes"]["encoded"].get<std::size_t>(), encoded);
         EXPECT_EQ(report["bytes"]["original_cbor"].get<std::size_t>(), graph_structure_bytes(g, o.quantum_m, true));
         EXPECT_EQ(report["bytes"]["encoded_cbor"].get<std::size_t>(), grammar_bytes(r.grammar, true));
+        // Where the CBOR bytes go: the parts add up to each file, and the grammar's axiom
+        // keeps fewer positions than the graph has.
+        for (const char* side : {"original", "encoded"}) {
+            std::size_t sum = 0;
+            for (const auto& [part, bytes] : report["bytes"]["parts_cbor"][side].items()) sum += bytes.get<std::size_t>();
+            EXPECT_EQ(sum, report["bytes"][std::string(side) + "_cbor"].get<std::size_t>()) << side;
+        }
+        const auto& parts = report["bytes"]["parts_cbor"];
+        EXPECT_GT(parts["original"]["positions"].get<std::size_t>(), 0u);
+        if (!r.grammar.rules.empty()) {
+            EXPECT_LT(parts["encoded"]["axiom_positions"].get<std::size_t>(), parts["original"]["positions"].get<std::size_t>());
+            EXPECT_GT(parts["encoded"]["rules"].get<std::size_t>(), 0u);
+        }
+        EXPECT_EQ(parts["encoded"]["residuals"].get<std::size_t>() > 0, c.lossless && !r.grammar.rules.empty());
         if (c.jitter < 0.005) EXPECT_GT(r.grammar.rules.size(), 0u);
     }
 }

@@ -81,6 +81,14 @@ def size_lines(stats):
         if size.get(original):
             lines.append("{}: {:,} \u2192 {:,} bytes ({:.2f}\u00d7)".format(
                 label, size[original], size.get(encoded, 0), size.get(encoded, 0) / size[original]))
+    # Where the CBOR bytes go, largest first: what the grammar stores against the graph's
+    # positions and edges.
+    for label, key in (("Graph", "original"), ("Grammar", "encoded")):
+        parts = size.get("parts_cbor", {}).get(key, {})
+        shown = [(name, count) for name, count in sorted(parts.items(), key=lambda p: (-p[1], p[0])) if count > 0]
+        if shown:
+            lines.append("{} CBOR: {}".format(label, ", ".join("{} {}".format(name.replace("_", " "), compact(count))
+                                                             for name, count in shown)))
     for level in stats.get("per_level", []):
         saved = level.get("bytes_saved", 0)
         lines.append("Pass {}: {}, {} {} bytes".format(level.get("level", 0), plural(level.get("rules", 0), "rule"),

@@ -108,12 +108,48 @@ nlohmann::json growth_report_json(const GrowReport& r) {
 
 namespace {
 
+// Where the bytes of a packed file (CBOR) go: each part the CBOR bytes of its columns, and
+// "header" the rest (format, name, symbols, settings, the columns' names and lengths). A
+// grammar is smaller than its graph where its parts, together, take less than positions
+// and edges do.
+using Parts = std::vector<std::pair<const char*, std::vector<std::pair<const char*, const char*>>>>;
+
+nlohmann::json cbor_parts(const nlohmann::json& doc, const Parts& parts) {
+    nlohmann::json out = nlohmann::json::object();
+    std::size_t counted = 0;
+    for (const auto& [part, columns] : parts) {
+        std::size_t bytes = 0;
+        for (const auto& [section, key] : columns) {
+            const nlohmann::json* object = section ? (doc.contains(section) ? &doc.at(section) : nullptr) : &doc;
+            if (object && object->is_object() && object->contains(key)) bytes += nlohmann::json::to_cbor(object->at(key)).size();
+        }
+        out[part] = bytes;
+        counted += bytes;
+    }
+    out["header"] = nlohmann::json::to_cbor(doc).size() - counted;
+    return out;
+}
+
 nlohmann::json bytes_report(const GeometricGraph& input, const Grammar& g) {
     const double quantum = g.encoding.quantum_m > 0 ? g.encoding.quantum_m : LearnOptions{}.quantum_m;
-    return {{"original", graph_structure_bytes(input, quantum)},
-            {"encoded", grammar_bytes(g)},
-            {"original_cbor", graph_structure_bytes(input, quantum, true)},
-            {"encoded_cbor", grammar_bytes(g, true)}};
+    nlohmann::json out = {{"original", graph_structure_bytes(input, quantum)},
+                          {"encoded", grammar_bytes(g)},
+                          {"original_cbor", graph_structure_bytes(input, quantum, true)},
+                          {"encoded_cbor", grammar_bytes(g, true)}};
+    static const Parts graph_parts = {{"positions", {{nullptr, "x"}, {nullptr, "y"}}}, {"edges", {{nullptr, "edges"}}}};
+    static const Parts grammar_parts = {
+        {"rules", {{"rules", "uses"}, {"rules", "size_cm"}, {"rules", "vertices"}, {"rules", "edges"}, {"rules", "x"}, {"rules", "y"},
+                   {"rules", "symbol"}, {"rules", "transform"}, {"rules", "embedding"}, {"rules", "points"}, {"rules", "edge_list"}}},
+        {"axiom_positions", {{"axiom", "x"}, {"axiom", "y"}}},
+        {"axiom_edges", {{"axiom", "edges"}}},
+        {"nonterminals", {{"axiom", "nonterminals"}, {"axiom", "symbol_order"}, {"axiom", "symbol"}, {"axiom", "frames"}}},
+        {"corrections", {{"encoding", "correction"}, {"encoding", "shift"}, {"encoding", "tolerance"}}},
+        {"links", {{"encoding", "neighbours"}, {"encoding", "embedding"}, {"encoding", "link_classes"}, {"encoding", "rule_points"},
+                   {"encoding", "edge_classes"}}},
+        {"residuals", {{"encoding", "residuals"}}}};
+    out["parts_cbor"] = {{"original", cbor_parts(io_detail::pack_graph(input, quantum), graph_parts)},
+                         {"encoded", cbor_parts(grammar_to_json(g), grammar_parts)}};
+    return out;
 }
 
 } // namespace
