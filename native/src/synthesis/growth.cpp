@@ -115,6 +115,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_across = traced.across;
         report.traced_avenues = traced.avenues;
         report.traced_crossed = traced.crossed;
+        report.traced_offset_crossings = traced.offset_crossings;
         street_density_ = traced.density;
         junction_density_ = traced.junction_density;
         density_radius_ = 2.0 * traced.typical_m;

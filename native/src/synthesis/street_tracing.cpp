@@ -4,9 +4,12 @@
 #include "street_tracing.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 
 #include "tracing_stages.hpp"
+
+#include "ggg/graph/plane_geometry.hpp"
 
 namespace ggg::growth_detail {
 namespace tracing {
@@ -58,6 +61,7 @@ TracingReport Tracer::run() {
         if (steps % 256 == 0) report(progress_, std::min(0.99, static_cast<double>(report_.streets) / static_cast<double>(expected_streets_)), "tracing streets");
         trace(street);
     }
+    offset_crossings();
     join_close_ends();
     report_.density = density_;
     report_.junction_density = junction_density_;
@@ -147,6 +151,68 @@ void Tracer::trace(const Street& s) {
         }
         open_end(s, line, &example, mirror);
         return;
+    }
+}
+
+void Tracer::offset_crossings() {
+    if (offsets_.empty() || offset_share_ <= 0.0) return;
+    const double room = std::max(shortest_, 1.0);
+    const std::size_t grown = g_.vertex_count();
+    for (std::size_t i = base_vertices_; i < grown; ++i) {
+        const auto v = static_cast<VertexId>(i);
+        const auto& at = adjacency_[i];
+        if (at.size() != 4) continue;
+        const Vec2 pv = g_.positions[i];
+        // The four streets as two straight pairs: each with the one most nearly opposite it.
+        std::array<Vec2, 4> out;
+        for (std::size_t k = 0; k < 4; ++k) out[k] = (leaving(g_, at[k], v) - pv).normalized();
+        std::size_t opposite = 1;
+        for (std::size_t k = 2; k < 4; ++k) {
+            if (out[0].dot(out[k]) < out[0].dot(out[opposite])) opposite = k;
+        }
+        std::array<std::size_t, 2> rest{};
+        for (std::size_t k = 1, r = 0; k < 4; ++k) {
+            if (k != opposite) rest[r++] = k;
+        }
+        const double straight = -std::cos(M_PI / 6);
+        if (out[0].dot(out[opposite]) > straight || out[rest[0]].dot(out[rest[1]]) > straight) continue;
+        if (!std::bernoulli_distribution(offset_share_)(rng_)) continue;
+        // Which street goes through, which side street moves, which way along.
+        std::array<std::array<std::size_t, 2>, 2> pairs = {{{0, opposite}, rest}};
+        const std::size_t through = std::bernoulli_distribution(0.5)(rng_) ? 1 : 0;
+        const auto& crossed = pairs[through];
+        const auto& sides = pairs[1 - through];
+        const EdgeId side = at[sides[std::bernoulli_distribution(0.5)(rng_) ? 1 : 0]];
+        const EdgeId along = at[crossed[std::bernoulli_distribution(0.5)(rng_) ? 1 : 0]];
+        if (static_cast<std::size_t>(side) < fixed_edges_ || static_cast<std::size_t>(along) < fixed_edges_) continue;
+        const double d = offsets_[std::uniform_int_distribution<std::size_t>(0, offsets_.size() - 1)(rng_)];
+        // The point d metres along `along` from v.
+        std::vector<Vec2> way(g_.geometry_begin(along), g_.geometry_begin(along) + static_cast<long>(g_.geometry_size(along)));
+        if (g_.edges[static_cast<std::size_t>(along)][0] != v) std::reverse(way.begin(), way.end());
+        double left = d;
+        std::optional<Vec2> where;
+        for (std::size_t k = 0; k + 1 < way.size() && !where; ++k) {
+            const double piece = (way[k + 1] - way[k]).norm();
+            if (left <= piece) where = way[k] + (left / std::max(piece, 1e-9)) * (way[k + 1] - way[k]);
+            left -= piece;
+        }
+        if (!where || g_.edge_length(along) < d + room || !inside(region_, *where) || nearest_vertex(*where, 0.5 * d, v)) continue;
+        // The side street from its far end, bent to end there; it must cross nothing on the way.
+        const bool side_from_v = g_.edges[static_cast<std::size_t>(side)][0] == v;
+        const VertexId far = g_.edges[static_cast<std::size_t>(side)][side_from_v ? 1 : 0];
+        std::vector<Vec2> line(g_.geometry_begin(side), g_.geometry_begin(side) + static_cast<long>(g_.geometry_size(side)));
+        if (side_from_v) std::reverse(line.begin(), line.end());
+        line = warped(std::move(line), *where);
+        if (first_hit(line, far, v, side)) continue;
+        const VertexId y = split(along, *where);
+        if (side_from_v) std::reverse(line.begin(), line.end());
+        std::copy(line.begin(), line.end(), g_.geometry.begin() + static_cast<long>(g_.geometry_offsets[static_cast<std::size_t>(side)]));
+        g_.edges[static_cast<std::size_t>(side)][side_from_v ? 0 : 1] = y;
+        auto& at_v = adjacency_[i];
+        at_v.erase(std::find(at_v.begin(), at_v.end(), side));
+        adjacency_[static_cast<std::size_t>(y)].push_back(side);
+        index_edge(side);
+        ++report_.offset_crossings;
     }
 }
 

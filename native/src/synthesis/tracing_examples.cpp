@@ -143,6 +143,51 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
             (main ? main_examples_ : other_examples_).push_back(std::move(example));
         }
     }
+    // Offset crossings: two T-junctions a few metres apart on one street, their side streets
+    // leaving to either side, where another city would have one crossing. Counted against the
+    // city's crossings (four streets), with how far apart they are.
+    std::size_t crossings = 0;
+    for (std::size_t c = 0; c < n; ++c) {
+        if (at[c].size() != 4 || at_a_border(city.positions[c])) continue;
+        if (std::isfinite(radius) && distance_to_ring(region_, city.positions[c]) > radius) continue;
+        ++crossings;
+    }
+    offsets_.clear();
+    for (std::size_t e = 0; e < city.edge_count(); ++e) {
+        const auto [a, b] = city.edges[e];
+        if (a == b || at[static_cast<std::size_t>(a)].size() != 3 || at[static_cast<std::size_t>(b)].size() != 3) continue;
+        const Vec2 pa = city.positions[static_cast<std::size_t>(a)];
+        if (at_a_border(pa) || (std::isfinite(radius) && distance_to_ring(region_, pa) > radius)) continue;
+        double length = 0.0;
+        const Vec2* q = city.geometry_begin(static_cast<EdgeId>(e));
+        for (std::size_t k = 0; k + 1 < city.geometry_size(static_cast<EdgeId>(e)); ++k) length += (q[k + 1] - q[k]).norm();
+        if (length >= crowd_ * typical_ || length < 1e-3) continue;
+        // At each end: the street goes on straight (within 30 degrees) and the third leaves to
+        // one side; seen from either end, opposite sides have the same sign.
+        int sides[2] = {0, 0};
+        for (int k = 0; k < 2; ++k) {
+            const VertexId v = k == 0 ? a : b;
+            const Vec2 pv = city.positions[static_cast<std::size_t>(v)];
+            const Vec2 along = (leaving(city, static_cast<EdgeId>(e), v) - pv).normalized();
+            Vec2 on(0, 0), side(0, 0);
+            double most = 2.0;
+            for (const EdgeId f : at[static_cast<std::size_t>(v)]) {
+                if (f == static_cast<EdgeId>(e)) continue;
+                const Vec2 d = (leaving(city, f, v) - pv).normalized();
+                if (along.dot(d) < most) {
+                    if (most < 2.0) side = on;
+                    most = along.dot(d);
+                    on = d;
+                } else {
+                    side = d;
+                }
+            }
+            if (most > -std::cos(M_PI / 6)) break;
+            sides[k] = along.x() * side.y() - along.y() * side.x() > 0 ? 1 : -1;
+        }
+        if (sides[0] != 0 && sides[0] == sides[1]) offsets_.push_back(length);
+    }
+    offset_share_ = offsets_.empty() ? 0.0 : static_cast<double>(offsets_.size()) / static_cast<double>(offsets_.size() + crossings);
     pick_common_class(class_counts);
     if (angles > 0) right_share_ = static_cast<double>(right) / static_cast<double>(angles);
 }

@@ -309,6 +309,12 @@ private:
 
     // ---- tracing (street_tracing.cpp) ------------------------------------------------------
 
+    // Offset crossings, as often as the city has them (offset_share_): at a grown crossing of
+    // two straight streets, one side street moved a few metres (offsets_) along the street it
+    // crosses, where it crosses nothing there. Two T's a few metres apart are the grain of
+    // Porto or Monaco; a grid (Oakland) has none and keeps its crossings.
+    void offset_crossings();
+
     // The street that leaves the junction `from` as `branch` does, seen from a street arriving
     // along `arriving` (radians) of class `own`, mirrored or not; queued for tracing.
     void queue_branch(VertexId from, double arriving, const Branch& branch, bool mirror, HighwayClass own, std::size_t generation,
@@ -358,6 +364,11 @@ private:
     // Junctions closer than the usual spacing (crowd_, the snap of settle) are made only as
     // often as the city has streets that short, and never closer than its shortest streets:
     // offset crossings, short links and the blocks they close are part of a city's grain.
+    // Of the city's crossings and offset crossings (two T's on a street a few metres apart,
+    // their side streets to either side: Porto has as many as crossings, Oakland none), the
+    // share of offset ones, and how far apart their two T's are.
+    double offset_share_ = 0.0;
+    std::vector<double> offsets_;
     double short_share_ = 0.0;  // of the examples' streets, those shorter than crowd_ typical streets
     double shortest_ = 0.0;     // their 5th percentile
     std::size_t streets_made_ = 0, short_made_ = 0;
