@@ -8,6 +8,7 @@
 #include <queue>
 
 #include "ggg/graph/planar_faces.hpp"
+#include "ggg/graph/plane_geometry.hpp"
 
 namespace ggg {
 
@@ -123,12 +124,7 @@ Vec2 leaving_direction(const GeometricGraph& g, EdgeId e, VertexId v) {
     std::vector<Vec2> line(p, p + n);
     if (g.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
     const double reach = std::min(20.0, 0.5 * g.edge_length(e));
-    double walked = 0.0;
-    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-        const double step = (line[i + 1] - line[i]).norm();
-        if (walked + step >= reach && step > 0) return line[i] + (line[i + 1] - line[i]) * ((reach - walked) / step) - line[0];
-        walked += step;
-    }
+    if (const auto at = point_along(line, reach)) return *at - line[0];
     return line.back() - line.front();
 }
 

@@ -178,7 +178,7 @@ void Tracer::offset_crossings() {
         if (out[0].dot(out[opposite]) > straight || out[rest[0]].dot(out[rest[1]]) > straight) continue;
         if (!std::bernoulli_distribution(offset_share_)(rng_)) continue;
         // Which street goes through, which side street moves, which way along.
-        std::array<std::array<std::size_t, 2>, 2> pairs = {{{0, opposite}, rest}};
+        const std::array<std::array<std::size_t, 2>, 2> pairs = {{{0, opposite}, rest}};
         const std::size_t through = std::bernoulli_distribution(0.5)(rng_) ? 1 : 0;
         const auto& crossed = pairs[through];
         const auto& sides = pairs[1 - through];
@@ -186,17 +186,12 @@ void Tracer::offset_crossings() {
         const EdgeId along = at[crossed[std::bernoulli_distribution(0.5)(rng_) ? 1 : 0]];
         if (static_cast<std::size_t>(side) < fixed_edges_ || static_cast<std::size_t>(along) < fixed_edges_) continue;
         const double d = offsets_[std::uniform_int_distribution<std::size_t>(0, offsets_.size() - 1)(rng_)];
+        if (g_.edge_length(along) < d + room) continue;
         // The point d metres along `along` from v.
         std::vector<Vec2> way(g_.geometry_begin(along), g_.geometry_begin(along) + static_cast<long>(g_.geometry_size(along)));
         if (g_.edges[static_cast<std::size_t>(along)][0] != v) std::reverse(way.begin(), way.end());
-        double left = d;
-        std::optional<Vec2> where;
-        for (std::size_t k = 0; k + 1 < way.size() && !where; ++k) {
-            const double piece = (way[k + 1] - way[k]).norm();
-            if (left <= piece) where = way[k] + (left / std::max(piece, 1e-9)) * (way[k + 1] - way[k]);
-            left -= piece;
-        }
-        if (!where || g_.edge_length(along) < d + room || !inside(region_, *where) || nearest_vertex(*where, 0.5 * d, v)) continue;
+        const std::optional<Vec2> where = point_along(way, d);
+        if (!where || !inside(region_, *where) || nearest_vertex(*where, 0.5 * d, v)) continue;
         // The side street from its far end, bent to end there; it must cross nothing on the way.
         const bool side_from_v = g_.edges[static_cast<std::size_t>(side)][0] == v;
         const VertexId far = g_.edges[static_cast<std::size_t>(side)][side_from_v ? 1 : 0];

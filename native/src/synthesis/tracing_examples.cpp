@@ -158,32 +158,23 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
         if (a == b || at[static_cast<std::size_t>(a)].size() != 3 || at[static_cast<std::size_t>(b)].size() != 3) continue;
         const Vec2 pa = city.positions[static_cast<std::size_t>(a)];
         if (at_a_border(pa) || (std::isfinite(radius) && distance_to_ring(region_, pa) > radius)) continue;
-        double length = 0.0;
-        const Vec2* q = city.geometry_begin(static_cast<EdgeId>(e));
-        for (std::size_t k = 0; k + 1 < city.geometry_size(static_cast<EdgeId>(e)); ++k) length += (q[k + 1] - q[k]).norm();
+        const double length = city.edge_length(static_cast<EdgeId>(e));
         if (length >= crowd_ * typical_ || length < 1e-3) continue;
-        // At each end: the street goes on straight (within 30 degrees) and the third leaves to
-        // one side; seen from either end, opposite sides have the same sign.
+        // At each end: of its two other streets, the one most nearly opposite goes on straight
+        // (within 30 degrees) and the other leaves to one side; seen from either end, opposite
+        // sides have the same sign.
         int sides[2] = {0, 0};
         for (int k = 0; k < 2; ++k) {
             const VertexId v = k == 0 ? a : b;
             const Vec2 pv = city.positions[static_cast<std::size_t>(v)];
             const Vec2 along = (leaving(city, static_cast<EdgeId>(e), v) - pv).normalized();
-            Vec2 on(0, 0), side(0, 0);
-            double most = 2.0;
+            std::vector<Vec2> others;
             for (const EdgeId f : at[static_cast<std::size_t>(v)]) {
-                if (f == static_cast<EdgeId>(e)) continue;
-                const Vec2 d = (leaving(city, f, v) - pv).normalized();
-                if (along.dot(d) < most) {
-                    if (most < 2.0) side = on;
-                    most = along.dot(d);
-                    on = d;
-                } else {
-                    side = d;
-                }
+                if (f != static_cast<EdgeId>(e)) others.push_back((leaving(city, f, v) - pv).normalized());
             }
-            if (most > -std::cos(M_PI / 6)) break;
-            sides[k] = along.x() * side.y() - along.y() * side.x() > 0 ? 1 : -1;
+            const std::size_t on = along.dot(others[0]) < along.dot(others[1]) ? 0 : 1;
+            if (along.dot(others[on]) > -std::cos(M_PI / 6)) break;
+            sides[k] = cross(along, others[1 - on]) > 0 ? 1 : -1;
         }
         if (sides[0] != 0 && sides[0] == sides[1]) offsets_.push_back(length);
     }

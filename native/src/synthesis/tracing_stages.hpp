@@ -361,14 +361,14 @@ private:
     const double grid_tolerance_ = M_PI / 4;
     std::vector<char> across_; // per base vertex: joined across the region (join_across)
     std::size_t blocks_closed_ = 0, small_blocks_closed_ = 0; // by tracing, for the city's share of small blocks
-    // Junctions closer than the usual spacing (crowd_, the snap of settle) are made only as
-    // often as the city has streets that short, and never closer than its shortest streets:
-    // offset crossings, short links and the blocks they close are part of a city's grain.
     // Of the city's crossings and offset crossings (two T's on a street a few metres apart,
     // their side streets to either side: Porto has as many as crossings, Oakland none), the
     // share of offset ones, and how far apart their two T's are.
     double offset_share_ = 0.0;
     std::vector<double> offsets_;
+    // Junctions closer than the usual spacing (crowd_, the snap of settle) are made only as
+    // often as the city has streets that short, and never closer than its shortest streets:
+    // offset crossings, short links and the blocks they close are part of a city's grain.
     double short_share_ = 0.0;  // of the examples' streets, those shorter than crowd_ typical streets
     double shortest_ = 0.0;     // their 5th percentile
     std::size_t streets_made_ = 0, short_made_ = 0;

@@ -54,6 +54,17 @@ inline double distance_to_ring(const std::vector<Vec2>& ring, const Vec2& p) {
     return best;
 }
 
+// The point `distance` along the polyline from its first point; none beyond its end.
+inline std::optional<Vec2> point_along(const std::vector<Vec2>& line, double distance) {
+    double walked = 0.0;
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+        const double step = (line[i + 1] - line[i]).norm();
+        if (step > 0 && walked + step >= distance) return line[i] + (line[i + 1] - line[i]) * ((distance - walked) / step);
+        walked += step;
+    }
+    return std::nullopt;
+}
+
 inline double distance_to_segment(const Vec2& x, const Vec2& p, const Vec2& q) {
     const Vec2 d = q - p;
     const double t = std::clamp((x - p).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
