@@ -84,6 +84,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"traced_avenues", r.traced_avenues},
         {"traced_crossed", r.traced_crossed},
         {"traced_offset_crossings", r.traced_offset_crossings},
+        {"traced_junction_islands", r.traced_junction_islands},
         {"added_vertices", r.added_vertices},
         {"added_edges", r.added_edges},
         {"border_connections", r.border_connections},

@@ -116,6 +116,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_avenues = traced.avenues;
         report.traced_crossed = traced.crossed;
         report.traced_offset_crossings = traced.offset_crossings;
+        report.traced_junction_islands = traced.junction_islands;
         street_density_ = traced.density;
         junction_density_ = traced.junction_density;
         density_radius_ = 2.0 * traced.typical_m;

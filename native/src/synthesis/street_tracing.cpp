@@ -62,6 +62,7 @@ TracingReport Tracer::run() {
         trace(street);
     }
     offset_crossings();
+    junction_islands();
     join_close_ends();
     report_.density = density_;
     report_.junction_density = junction_density_;
@@ -208,6 +209,66 @@ void Tracer::offset_crossings() {
         adjacency_[static_cast<std::size_t>(y)].push_back(side);
         index_edge(side);
         ++report_.offset_crossings;
+    }
+}
+
+void Tracer::junction_islands() {
+    const double room = std::max(shortest_, 1.0);
+    std::vector<VertexId> candidates;
+    for (std::size_t i = base_vertices_; i < g_.vertex_count(); ++i) {
+        if (degree(static_cast<VertexId>(i)) == 3) candidates.push_back(static_cast<VertexId>(i));
+    }
+    for (const VertexId v : candidates) {
+        const auto& at = adjacency_[static_cast<std::size_t>(v)];
+        if (at.size() != 3) continue;
+        const Vec2 pv = g_.positions[static_cast<std::size_t>(v)];
+        std::array<Vec2, 3> out;
+        for (std::size_t k = 0; k < 3; ++k) out[k] = (leaving(g_, at[k], v) - pv).normalized();
+        const std::optional<TShape> t = t_shape(out);
+        if (!t) continue;
+        // Not where the corner is cut already.
+        if (adjacent(other_end(at[t->side], v), other_end(at[t->near], v))) continue;
+        const std::size_t kind = main_class(g_.edge_highway[static_cast<std::size_t>(at[t->near])]) ? 1 : 0;
+        const std::size_t bin = island_bin(t->corner);
+        if (!std::bernoulli_distribution(std::min(0.5, island_rate_[kind][bin]))(rng_)) continue;
+        // The sides of one of the city's islands at a corner like this one (the nearest bin
+        // that has any, of the same kind of street where it has any).
+        const std::vector<std::pair<double, double>>* like = nullptr;
+        for (const std::size_t k : {kind, 1 - kind}) {
+            for (std::size_t step = 0; step < island_bins && !like; ++step) {
+                for (const std::size_t b : {bin + step, bin - step}) {
+                    if (b < island_bins && !islands_[k][b].empty()) {
+                        like = &islands_[k][b];
+                        break;
+                    }
+                }
+            }
+        }
+        if (!like) continue;
+        const auto [d_side, d_through] = (*like)[std::uniform_int_distribution<std::size_t>(0, like->size() - 1)(rng_)];
+        const EdgeId side_edge = at[t->side], through_edge = at[t->near];
+        if (static_cast<std::size_t>(side_edge) < fixed_edges_ || static_cast<std::size_t>(through_edge) < fixed_edges_) continue;
+        if (g_.edge_length(side_edge) < d_side + room || g_.edge_length(through_edge) < d_through + room) continue;
+        auto from_v = [&](EdgeId e) {
+            std::vector<Vec2> way(g_.geometry_begin(e), g_.geometry_begin(e) + static_cast<long>(g_.geometry_size(e)));
+            if (g_.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(way.begin(), way.end());
+            return way;
+        };
+        const std::optional<Vec2> q = point_along(from_v(side_edge), d_side), r = point_along(from_v(through_edge), d_through);
+        if (!q || !r || !inside(region_, *q) || !inside(region_, *r)) continue;
+        const double near = 0.5 * std::min(d_side, d_through);
+        if (nearest_vertex(*q, near, v) || nearest_vertex(*r, near, v)) continue;
+        if (0.5 * std::abs(cross(*q - pv, *r - pv)) < s_.min_block_m2) continue;
+        // The new street meets both at 20 degrees or more and crosses nothing.
+        const Vec2 link = (*r - *q).normalized();
+        if (std::abs(link.dot((pv - *q).normalized())) > std::cos(M_PI / 9) || std::abs(link.dot((pv - *r).normalized())) > std::cos(M_PI / 9)) continue;
+        const std::vector<Vec2> line{*q, *r};
+        if (first_hit(line, v, v)) continue;
+        const HighwayClass highway = g_.edge_highway[static_cast<std::size_t>(side_edge)];
+        const VertexId x = split(side_edge, *q);
+        const VertexId y = split(through_edge, *r);
+        add_street(x, y, line, highway);
+        ++report_.junction_islands;
     }
 }
 

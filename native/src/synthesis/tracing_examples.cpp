@@ -5,6 +5,8 @@
 #include "tracing_stages.hpp"
 
 #include <algorithm>
+#include <array>
+#include <numeric>
 
 #include "ggg/graph/plane_geometry.hpp"
 
@@ -179,6 +181,56 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
         if (sides[0] != 0 && sides[0] == sides[1]) offsets_.push_back(length);
     }
     offset_share_ = offsets_.empty() ? 0.0 : static_cast<double>(offsets_.size()) / static_cast<double>(offsets_.size() + crossings);
+    // Junction islands: at a T-junction, a short street from the side street to the street it
+    // meets, cutting the sharper corner between them (a street that forks where it meets
+    // another, a slip road), which closes a small triangle. How often the city's T's have one
+    // depends on that corner (forks at a slant do, the square T's of a grid seldom) and on
+    // the street met (Helsinki's are where its side streets meet main roads).
+    std::array<std::array<std::size_t, island_bins>, 2> t_counts{}, island_counts{};
+    for (auto& kind : islands_) {
+        for (auto& bin : kind) bin.clear();
+    }
+    auto adjacent_in_city = [&](VertexId x, VertexId y) {
+        return std::any_of(at[static_cast<std::size_t>(x)].begin(), at[static_cast<std::size_t>(x)].end(), [&](EdgeId f) {
+            const auto [p, q] = city.edges[static_cast<std::size_t>(f)];
+            return (p == x && q == y) || (p == y && q == x);
+        });
+    };
+    for (std::size_t c = 0; c < n; ++c) {
+        if (at[c].size() != 3 || at_a_border(city.positions[c])) continue;
+        if (std::isfinite(radius) && distance_to_ring(region_, city.positions[c]) > radius) continue;
+        const auto v = static_cast<VertexId>(c);
+        const Vec2 pc = city.positions[c];
+        std::array<Vec2, 3> out;
+        for (std::size_t k = 0; k < 3; ++k) out[k] = (leaving(city, at[c][k], v) - pc).normalized();
+        const std::optional<TShape> t = t_shape(out);
+        if (!t) continue;
+        const std::size_t kind = main_class(city.edge_highway[static_cast<std::size_t>(at[c][t->near])]) ? 1 : 0;
+        const std::size_t bin = island_bin(t->corner);
+        ++t_counts[kind][bin];
+        auto far_end = [&](EdgeId e) {
+            const auto [p, q] = city.edges[static_cast<std::size_t>(e)];
+            return p == v ? q : p;
+        };
+        const VertexId x = far_end(at[c][t->side]), y = far_end(at[c][t->near]);
+        if (x == y || at[static_cast<std::size_t>(x)].size() < 3 || at[static_cast<std::size_t>(y)].size() < 3 || !adjacent_in_city(x, y)) continue;
+        const Vec2 px = city.positions[static_cast<std::size_t>(x)], py = city.positions[static_cast<std::size_t>(y)];
+        const double area = 0.5 * std::abs(cross(px - pc, py - pc));
+        if (area < 1.0 || (s_.usual_block_m2 > 0 && area >= s_.usual_block_m2)) continue;
+        ++island_counts[kind][bin];
+        islands_[kind][bin].push_back({(px - pc).norm(), (py - pc).norm()});
+    }
+    // A bin with too few T's to say takes the rate of all the T's on streets of its kind, or of
+    // all the city's T's where that kind has too few too.
+    auto rate = [](std::size_t islands, std::size_t ts) { return static_cast<double>(islands) / static_cast<double>(std::max<std::size_t>(ts, 1)); };
+    auto sum = [](const std::array<std::size_t, island_bins>& a) { return std::accumulate(a.begin(), a.end(), std::size_t{0}); };
+    const std::size_t all_t = sum(t_counts[0]) + sum(t_counts[1]), all_islands = sum(island_counts[0]) + sum(island_counts[1]);
+    for (std::size_t kind = 0; kind < 2; ++kind) {
+        const double of_kind = sum(t_counts[kind]) >= 10 ? rate(sum(island_counts[kind]), sum(t_counts[kind])) : rate(all_islands, all_t);
+        for (std::size_t bin = 0; bin < island_bins; ++bin) {
+            island_rate_[kind][bin] = t_counts[kind][bin] >= 10 ? rate(island_counts[kind][bin], t_counts[kind][bin]) : of_kind;
+        }
+    }
     pick_common_class(class_counts);
     if (angles > 0) right_share_ = static_cast<double>(right) / static_cast<double>(angles);
 }

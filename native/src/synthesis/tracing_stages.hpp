@@ -5,12 +5,15 @@
 // (tracing_lines.cpp) and joined to what it meets or dropped (tracing_constraints.cpp), with
 // the graph and the indexes they all query and change (tracing_graph.cpp).
 // street_tracing.cpp runs them: the streets, one at a time, main roads first.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <optional>
 #include <queue>
 #include <random>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "ggg/graph/geometric_graph.hpp"
@@ -43,6 +46,30 @@ inline bool traced_class(HighwayClass c) {
     default:
         return true;
     }
+}
+
+// A T-junction seen from its three streets (unit directions leaving it): two go on straight
+// (within 30 degrees), the third is its side street, and `near` is the half of the through
+// street at the sharper corner with it, `corner` that angle (radians, at most 90 degrees).
+struct TShape {
+    std::size_t side = 0, near = 0;
+    double corner = 0.0;
+};
+
+inline std::optional<TShape> t_shape(const std::array<Vec2, 3>& out) {
+    for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t a = (k + 1) % 3, b = (k + 2) % 3;
+        if (out[a].dot(out[b]) >= -std::cos(M_PI / 6)) continue;
+        const std::size_t near = out[k].dot(out[a]) >= out[k].dot(out[b]) ? a : b;
+        return TShape{k, near, std::acos(std::clamp(out[k].dot(out[near]), -1.0, 1.0))};
+    }
+    return std::nullopt;
+}
+
+// Junction islands are counted by the sharper corner of their T, in bins of 10 degrees.
+inline constexpr std::size_t island_bins = 9;
+inline std::size_t island_bin(double corner) {
+    return std::min(island_bins - 1, static_cast<std::size_t>(std::max(0.0, corner) / (M_PI / 18)));
 }
 
 // One street leaving an example junction, seen from a street arriving at it: its turn from
@@ -315,6 +342,13 @@ private:
     // Porto or Monaco; a grid (Oakland) has none and keeps its crossings.
     void offset_crossings();
 
+    // Junction islands, as often as the city's T's with the same corner on the same kind of
+    // street have them (island_rate_): at a grown T-junction, a short street from the side street to the street
+    // it meets, cutting the sharper corner between them, its ends as far along them as on
+    // one of the city's islands (islands_). Porto's forks and slip roads close half of its
+    // small blocks; the square T's of a grid seldom have one.
+    void junction_islands();
+
     // The street that leaves the junction `from` as `branch` does, seen from a street arriving
     // along `arriving` (radians) of class `own`, mirrored or not; queued for tracing.
     void queue_branch(VertexId from, double arriving, const Branch& branch, bool mirror, HighwayClass own, std::size_t generation,
@@ -366,6 +400,11 @@ private:
     // share of offset ones, and how far apart their two T's are.
     double offset_share_ = 0.0;
     std::vector<double> offsets_;
+    // Of the city's T-junctions, by the street they meet (other or main) and their sharper
+    // corner (island_bin), the share with a junction island, and each island's sides along
+    // the side street and the street met.
+    std::array<std::array<double, island_bins>, 2> island_rate_{};
+    std::array<std::array<std::vector<std::pair<double, double>>, island_bins>, 2> islands_;
     // Junctions closer than the usual spacing (crowd_, the snap of settle) are made only as
     // often as the city has streets that short, and never closer than its shortest streets:
     // offset crossings, short links and the blocks they close are part of a city's grain.

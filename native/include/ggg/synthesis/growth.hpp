@@ -166,6 +166,7 @@ struct GrowReport {
     std::size_t traced_avenues = 0;     // main roads across the grid laid on straight until two meet
     std::size_t traced_crossed = 0;     // traced streets sent on across a street they met, as often as the city's junctions are crossings
     std::size_t traced_offset_crossings = 0; // grown crossings made two T-junctions a few metres apart, as often as the city has them
+    std::size_t traced_junction_islands = 0; // short streets cutting the corner of a grown T-junction (a fork, a slip road), as often as the city has them
     std::size_t added_vertices = 0;
     std::size_t added_edges = 0;
     std::size_t border_connections = 0; // placements that started from a base street
