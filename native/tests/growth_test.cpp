@@ -582,8 +582,12 @@ TEST(Growth, AGridCutByAKnifeGoesOnAcrossTheHole) {
 
 // Of a graph's crossings (four streets) and offset crossings (two T-junctions under `short_m`
 // apart, the street straight through both, their side streets to either side), counted where
-// a junction is at `first_vertex` or later: the share of offset ones.
-static double offset_crossing_share(const GeometricGraph& g, std::size_t first_vertex, double short_m) {
+// a junction is at `first_vertex` or later: how many of each.
+struct CrossingCounts {
+    std::size_t crossings = 0, offsets = 0;
+    double offset_share() const { return offsets + crossings > 0 ? static_cast<double>(offsets) / static_cast<double>(offsets + crossings) : 0.0; }
+};
+static CrossingCounts count_crossings(const GeometricGraph& g, std::size_t first_vertex, double short_m) {
     std::vector<std::vector<EdgeId>> at(g.vertex_count());
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         at[static_cast<std::size_t>(g.edges[e][0])].push_back(static_cast<EdgeId>(e));
@@ -618,7 +622,7 @@ static double offset_crossing_share(const GeometricGraph& g, std::size_t first_v
         }
         offsets += sides[0] != 0 && sides[0] == sides[1];
     }
-    return offsets + crossings > 0 ? static_cast<double>(offsets) / static_cast<double>(offsets + crossings) : 0.0;
+    return {crossings, offsets};
 }
 
 // The infill test's hole (docs/synthesis.md): a square of 30 % of the city's extent around its
@@ -661,22 +665,26 @@ TEST(Growth, CrossingsAreOffsetAsOftenAsInTheCity) {
     GGG_REQUIRE_CORPUS();
     for (const auto& [file, least, most] : {std::tuple{"monaco.osm.pbf", 0.25, 0.8}, std::tuple{"oakland_west.osm.bz2", 0.0, 0.2}}) {
         const GeometricGraph city = read_graph(test::shared_osm_dir() + "/" + file);
-        const double city_share = offset_crossing_share(city, 0, 35.0);
+        const double city_share = count_crossings(city, 0, 35.0).offset_share();
         const auto [base, hole] = cut_infill_hole(city);
         const Grammar grammar = learn_grammar(base).grammar;
         std::size_t made = 0;
+        // Over four seeds: one grown hole of Monaco has about a dozen crossings and offset ones.
+        CrossingCounts grown_counts;
         for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
             GrowOptions o;
             o.seed = seed;
             GrowReport report;
             const GeometricGraph grown = grow_region(base, grammar, hole, o, &report);
-            const double grown_share = offset_crossing_share(grown, base.vertex_count(), 35.0);
-            EXPECT_GE(grown_share, least) << file << " seed " << seed << " (the city's " << city_share << ")";
-            EXPECT_LE(grown_share, most) << file << " seed " << seed << " (the city's " << city_share << ")";
+            const CrossingCounts counts = count_crossings(grown, base.vertex_count(), 35.0);
+            grown_counts.crossings += counts.crossings;
+            grown_counts.offsets += counts.offsets;
             made += report.traced_offset_crossings;
             EXPECT_EQ(test::polyline_crossings(grown, base.edge_count()), 0u) << file << " seed " << seed;
             for (std::size_t e = 0; e < base.edge_count(); ++e) ASSERT_EQ(grown.edges[e], base.edges[e]);
         }
+        EXPECT_GE(grown_counts.offset_share(), least) << file << " (the city's " << city_share << ")";
+        EXPECT_LE(grown_counts.offset_share(), most) << file << " (the city's " << city_share << ")";
         // Made by moving a side street where tracing grew a crossing: in Monaco on some seeds
         // (most of its grown junctions are T's already), in Oakland (1 % of its crossings
         // offset) next to never.

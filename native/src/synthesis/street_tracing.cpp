@@ -158,12 +158,43 @@ void Tracer::trace(const Street& s) {
 void Tracer::offset_crossings() {
     if (offsets_.empty() || offset_share_ <= 0.0) return;
     const double room = std::max(shortest_, 1.0);
-    const std::size_t grown = g_.vertex_count();
-    for (std::size_t i = base_vertices_; i < grown; ++i) {
-        const auto v = static_cast<VertexId>(i);
-        const auto& at = adjacency_[i];
+    std::vector<VertexId> crossings;
+    for (std::size_t i = base_vertices_; i < g_.vertex_count(); ++i) {
+        if (degree(static_cast<VertexId>(i)) == 4) crossings.push_back(static_cast<VertexId>(i));
+    }
+    std::shuffle(crossings.begin(), crossings.end(), rng_);
+    // Each one made turns a crossing into two T's: made until they are the city's share.
+    const double wanted = offset_share_ * static_cast<double>(crossings.size());
+    // The side street `side` moved d metres along `along` from v, where it then crosses nothing.
+    auto move = [&](VertexId v, EdgeId side, EdgeId along, double d) {
+        if (static_cast<std::size_t>(side) < fixed_edges_ || static_cast<std::size_t>(along) < fixed_edges_) return false;
+        if (g_.edge_length(along) < d + room) return false;
+        std::vector<Vec2> way(g_.geometry_begin(along), g_.geometry_begin(along) + static_cast<long>(g_.geometry_size(along)));
+        if (g_.edges[static_cast<std::size_t>(along)][0] != v) std::reverse(way.begin(), way.end());
+        const std::optional<Vec2> where = point_along(way, d);
+        if (!where || !inside(region_, *where) || nearest_vertex(*where, 0.5 * d, v)) return false;
+        // The side street from its far end, bent to end there.
+        const bool side_from_v = g_.edges[static_cast<std::size_t>(side)][0] == v;
+        const VertexId far = g_.edges[static_cast<std::size_t>(side)][side_from_v ? 1 : 0];
+        std::vector<Vec2> line(g_.geometry_begin(side), g_.geometry_begin(side) + static_cast<long>(g_.geometry_size(side)));
+        if (side_from_v) std::reverse(line.begin(), line.end());
+        line = warped(std::move(line), *where);
+        if (first_hit(line, far, v, side)) return false;
+        const VertexId y = split(along, *where);
+        if (side_from_v) std::reverse(line.begin(), line.end());
+        std::copy(line.begin(), line.end(), g_.geometry.begin() + static_cast<long>(g_.geometry_offsets[static_cast<std::size_t>(side)]));
+        g_.edges[static_cast<std::size_t>(side)][side_from_v ? 0 : 1] = y;
+        auto& at_v = adjacency_[static_cast<std::size_t>(v)];
+        at_v.erase(std::find(at_v.begin(), at_v.end(), side));
+        adjacency_[static_cast<std::size_t>(y)].push_back(side);
+        index_edge(side);
+        return true;
+    };
+    for (const VertexId v : crossings) {
+        if (static_cast<double>(report_.offset_crossings) + 0.5 > wanted) break;
+        const auto& at = adjacency_[static_cast<std::size_t>(v)];
         if (at.size() != 4) continue;
-        const Vec2 pv = g_.positions[i];
+        const Vec2 pv = g_.positions[static_cast<std::size_t>(v)];
         // The four streets as two straight pairs: each with the one most nearly opposite it.
         std::array<Vec2, 4> out;
         for (std::size_t k = 0; k < 4; ++k) out[k] = (leaving(g_, at[k], v) - pv).normalized();
@@ -177,38 +208,20 @@ void Tracer::offset_crossings() {
         }
         const double straight = -std::cos(M_PI / 6);
         if (out[0].dot(out[opposite]) > straight || out[rest[0]].dot(out[rest[1]]) > straight) continue;
-        if (!std::bernoulli_distribution(offset_share_)(rng_)) continue;
-        // Which street goes through, which side street moves, which way along.
+        // Which street goes through, which side street moves, which way along: the eight ways
+        // in a random order, until one fits.
         const std::array<std::array<std::size_t, 2>, 2> pairs = {{{0, opposite}, rest}};
-        const std::size_t through = std::bernoulli_distribution(0.5)(rng_) ? 1 : 0;
-        const auto& crossed = pairs[through];
-        const auto& sides = pairs[1 - through];
-        const EdgeId side = at[sides[std::bernoulli_distribution(0.5)(rng_) ? 1 : 0]];
-        const EdgeId along = at[crossed[std::bernoulli_distribution(0.5)(rng_) ? 1 : 0]];
-        if (static_cast<std::size_t>(side) < fixed_edges_ || static_cast<std::size_t>(along) < fixed_edges_) continue;
+        std::array<std::size_t, 8> ways{0, 1, 2, 3, 4, 5, 6, 7};
+        std::shuffle(ways.begin(), ways.end(), rng_);
         const double d = offsets_[std::uniform_int_distribution<std::size_t>(0, offsets_.size() - 1)(rng_)];
-        if (g_.edge_length(along) < d + room) continue;
-        // The point d metres along `along` from v.
-        std::vector<Vec2> way(g_.geometry_begin(along), g_.geometry_begin(along) + static_cast<long>(g_.geometry_size(along)));
-        if (g_.edges[static_cast<std::size_t>(along)][0] != v) std::reverse(way.begin(), way.end());
-        const std::optional<Vec2> where = point_along(way, d);
-        if (!where || !inside(region_, *where) || nearest_vertex(*where, 0.5 * d, v)) continue;
-        // The side street from its far end, bent to end there; it must cross nothing on the way.
-        const bool side_from_v = g_.edges[static_cast<std::size_t>(side)][0] == v;
-        const VertexId far = g_.edges[static_cast<std::size_t>(side)][side_from_v ? 1 : 0];
-        std::vector<Vec2> line(g_.geometry_begin(side), g_.geometry_begin(side) + static_cast<long>(g_.geometry_size(side)));
-        if (side_from_v) std::reverse(line.begin(), line.end());
-        line = warped(std::move(line), *where);
-        if (first_hit(line, far, v, side)) continue;
-        const VertexId y = split(along, *where);
-        if (side_from_v) std::reverse(line.begin(), line.end());
-        std::copy(line.begin(), line.end(), g_.geometry.begin() + static_cast<long>(g_.geometry_offsets[static_cast<std::size_t>(side)]));
-        g_.edges[static_cast<std::size_t>(side)][side_from_v ? 0 : 1] = y;
-        auto& at_v = adjacency_[i];
-        at_v.erase(std::find(at_v.begin(), at_v.end(), side));
-        adjacency_[static_cast<std::size_t>(y)].push_back(side);
-        index_edge(side);
-        ++report_.offset_crossings;
+        for (const std::size_t w : ways) {
+            const auto& crossed = pairs[w & 1];
+            const auto& sides = pairs[1 - (w & 1)];
+            if (move(v, at[sides[(w >> 1) & 1]], at[crossed[(w >> 2) & 1]], d)) {
+                ++report_.offset_crossings;
+                break;
+            }
+        }
     }
 }
 
