@@ -167,7 +167,12 @@ void Tracer::offset_crossings() {
     const double wanted = offset_share_ * static_cast<double>(crossings.size());
     // The side street `side` moved d metres along `along` from v, where it then crosses nothing.
     auto move = [&](VertexId v, EdgeId side, EdgeId along, double d) {
-        if (static_cast<std::size_t>(side) < fixed_edges_ || static_cast<std::size_t>(along) < fixed_edges_) return false;
+        // (One street twice at v is a loop: nothing to move along.) A main road keeps its line:
+        // the side street that moves is one of the streets between them.
+        if (side == along || static_cast<std::size_t>(side) < fixed_edges_ || static_cast<std::size_t>(along) < fixed_edges_ ||
+            main_class(g_.edge_highway[static_cast<std::size_t>(side)])) {
+            return false;
+        }
         if (g_.edge_length(along) < d + room) return false;
         std::vector<Vec2> way(g_.geometry_begin(along), g_.geometry_begin(along) + static_cast<long>(g_.geometry_size(along)));
         if (g_.edges[static_cast<std::size_t>(along)][0] != v) std::reverse(way.begin(), way.end());
@@ -260,7 +265,7 @@ void Tracer::junction_islands() {
         if (!like) continue;
         const auto [d_side, d_through] = (*like)[std::uniform_int_distribution<std::size_t>(0, like->size() - 1)(rng_)];
         const EdgeId side_edge = at[t->side], through_edge = at[t->near];
-        if (static_cast<std::size_t>(side_edge) < fixed_edges_ || static_cast<std::size_t>(through_edge) < fixed_edges_) continue;
+        if (side_edge == through_edge || static_cast<std::size_t>(side_edge) < fixed_edges_ || static_cast<std::size_t>(through_edge) < fixed_edges_) continue;
         if (g_.edge_length(side_edge) < d_side + room || g_.edge_length(through_edge) < d_through + room) continue;
         auto from_v = [&](EdgeId e) {
             std::vector<Vec2> way(g_.geometry_begin(e), g_.geometry_begin(e) + static_cast<long>(g_.geometry_size(e)));
