@@ -174,9 +174,7 @@ void Tracer::offset_crossings() {
             return false;
         }
         if (g_.edge_length(along) < d + room) return false;
-        std::vector<Vec2> way(g_.geometry_begin(along), g_.geometry_begin(along) + static_cast<long>(g_.geometry_size(along)));
-        if (g_.edges[static_cast<std::size_t>(along)][0] != v) std::reverse(way.begin(), way.end());
-        const std::optional<Vec2> where = point_along(way, d);
+        const std::optional<Vec2> where = point_along(line_from(along, v), d);
         if (!where || !inside(region_, *where) || nearest_vertex(*where, 0.5 * d, v)) return false;
         // The side street from its far end, bent to end there.
         const bool side_from_v = g_.edges[static_cast<std::size_t>(side)][0] == v;
@@ -267,12 +265,7 @@ void Tracer::junction_islands() {
         const EdgeId side_edge = at[t->side], through_edge = at[t->near];
         if (side_edge == through_edge || static_cast<std::size_t>(side_edge) < fixed_edges_ || static_cast<std::size_t>(through_edge) < fixed_edges_) continue;
         if (g_.edge_length(side_edge) < d_side + room || g_.edge_length(through_edge) < d_through + room) continue;
-        auto from_v = [&](EdgeId e) {
-            std::vector<Vec2> way(g_.geometry_begin(e), g_.geometry_begin(e) + static_cast<long>(g_.geometry_size(e)));
-            if (g_.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(way.begin(), way.end());
-            return way;
-        };
-        const std::optional<Vec2> q = point_along(from_v(side_edge), d_side), r = point_along(from_v(through_edge), d_through);
+        const std::optional<Vec2> q = point_along(line_from(side_edge, v), d_side), r = point_along(line_from(through_edge, v), d_through);
         if (!q || !r || !inside(region_, *q) || !inside(region_, *r)) continue;
         const double near = 0.5 * std::min(d_side, d_through);
         if (nearest_vertex(*q, near, v) || nearest_vertex(*r, near, v)) continue;

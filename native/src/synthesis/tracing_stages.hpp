@@ -166,6 +166,13 @@ private:
         return ends[0] == v ? ends[1] : ends[0];
     }
 
+    // The polyline of edge e read from its end v.
+    std::vector<Vec2> line_from(EdgeId e, VertexId v) const {
+        std::vector<Vec2> line(g_.geometry_begin(e), g_.geometry_begin(e) + static_cast<long>(g_.geometry_size(e)));
+        if (g_.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
+        return line;
+    }
+
     // Whether a street joins v and w.
     bool adjacent(VertexId v, VertexId w) const;
 
