@@ -381,7 +381,7 @@ def measure(city, seeds):
             "crossings": crossings(grown, set(new_edges.tolist())),
             "shared_places": shared_places(grown) - shared_places(rest),
             "learn_s": learn_seconds, "grow_s": grow_seconds, "rules": stats["rules"],
-            "crossed": report["traced_crossed"], "roundabouts": report["roundabouts"], "avenues": report["traced_avenues"],
+            "crossed": report["traced_crossed"], "roundabouts": report["roundabouts"], "avenues": report["traced_avenues"], "empty_ground": report["traced_empty_ground"],
         })
     return rows
 

@@ -31,7 +31,9 @@ def hole_learned(city):
 
 # Columbus is a grid of 6,000 streets in its hole: one seed. It is also where joining the
 # base's loose ends once wrote past the end of a list (a vertex made by a T-junction on the way).
-@pytest.mark.parametrize("city, seeds", [("paris_marais.osm.pbf", [1, 2]), ("monaco.osm.pbf", [1, 2]),
+# On Monaco's seed 3 a grown street closes on itself around 800 m of the hole, which stayed
+# empty (fill 0.59) until streets were opened into ground emptier than the city's.
+@pytest.mark.parametrize("city, seeds", [("paris_marais.osm.pbf", [1, 2]), ("monaco.osm.pbf", [1, 2, 3]),
                                          ("columbus_oh.osm.pbf", [1])])
 def test_a_hole_grown_back_meets_the_targets(city, seeds):
     for row in bench_infill.measure(city, seeds):

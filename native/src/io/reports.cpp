@@ -83,6 +83,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"traced_across", r.traced_across},
         {"traced_avenues", r.traced_avenues},
         {"traced_crossed", r.traced_crossed},
+        {"traced_empty_ground", r.traced_empty_ground},
         {"traced_offset_crossings", r.traced_offset_crossings},
         {"traced_junction_islands", r.traced_junction_islands},
         {"added_vertices", r.added_vertices},

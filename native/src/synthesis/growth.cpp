@@ -115,6 +115,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_across = traced.across;
         report.traced_avenues = traced.avenues;
         report.traced_crossed = traced.crossed;
+        report.traced_empty_ground = traced.empty_ground;
         report.traced_offset_crossings = traced.offset_crossings;
         report.traced_junction_islands = traced.junction_islands;
         street_density_ = traced.density;

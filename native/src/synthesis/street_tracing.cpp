@@ -55,11 +55,21 @@ TracingReport Tracer::run() {
     seed();
     std::size_t steps = 0;
     const std::size_t max_steps = 50 * s_.max_vertices + 1000;
-    while (!queue_.empty() && g_.vertex_count() < s_.max_vertices && steps++ < max_steps) {
-        Street street = queue_.top();
-        queue_.pop();
-        if (steps % 256 == 0) report(progress_, std::min(0.99, static_cast<double>(report_.streets) / static_cast<double>(expected_streets_)), "tracing streets");
-        trace(street);
+    auto drain = [&] {
+        while (!queue_.empty() && g_.vertex_count() < s_.max_vertices && steps++ < max_steps) {
+            Street street = queue_.top();
+            queue_.pop();
+            if (steps % 256 == 0) report(progress_, std::min(0.99, static_cast<double>(report_.streets) / static_cast<double>(expected_streets_)), "tracing streets");
+            trace(street);
+        }
+    };
+    drain();
+    // Rounds while empty ground is left and a round still adds streets into it.
+    for (int round = 0; round < 8 && g_.vertex_count() < s_.max_vertices; ++round) {
+        const std::size_t before = report_.streets;
+        if (!open_empty_ground()) break;
+        drain();
+        if (report_.streets == before) break;
     }
     offset_crossings();
     junction_islands();
@@ -153,6 +163,68 @@ void Tracer::trace(const Street& s) {
         open_end(s, line, &example, mirror);
         return;
     }
+}
+
+bool Tracer::open_empty_ground() {
+    if (empty_share_ >= 1.0) return false;
+    const double cell = typical_, far = empty_reach * typical_;
+    const Eigen::AlignedBox2d box = bounds(region_.begin(), region_.end());
+    const double size = box.diagonal().norm();
+    // The region's empty places, farthest from a street first.
+    std::vector<std::pair<double, Vec2>> empty;
+    std::size_t all = 0;
+    for (double y = box.min().y() + 0.5 * cell; y < box.max().y(); y += cell) {
+        for (double x = box.min().x() + 0.5 * cell; x < box.max().x(); x += cell) {
+            const Vec2 p(x, y);
+            if (!inside(region_, p)) continue;
+            ++all;
+            if (nearest_street(p, far, -1)) continue;
+            double d = 2.0 * far;
+            while (d < 2.0 * size && !nearest_street(p, d, -1)) d *= 2.0;
+            const std::optional<Near> near = nearest_street(p, d, -1);
+            if (near) empty.push_back({(near->where - p).norm(), p});
+        }
+    }
+    // As much empty ground as around the region is left empty.
+    if (empty.empty() || static_cast<double>(empty.size()) <= empty_share_ * static_cast<double>(all)) return false;
+    std::sort(empty.begin(), empty.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<Vec2> opened;
+    for (const auto& [d, p] : empty) {
+        // One street into each empty place a round: those near it wait for the next round.
+        if (std::any_of(opened.begin(), opened.end(), [&](const Vec2& o) { return (o - p).norm() < 2.0 * d; })) continue;
+        const std::optional<Near> near = nearest_street(p, 1.01 * d, -1);
+        if (!near || !inside(region_, near->where)) continue;
+        // From a junction there: the vertex near it, or a new one on a grown street.
+        VertexId from = -1;
+        if (const auto v = nearest_vertex(near->where, crowd_ * typical_, -1)) {
+            if (degree(*v) >= 4 || static_cast<std::size_t>(*v) < base_vertices_) continue;
+            from = *v;
+        } else {
+            if (static_cast<std::size_t>(near->edge) < fixed_edges_) continue;
+            from = split(near->edge, near->where);
+        }
+        const Vec2 ahead = (p - g_.positions[static_cast<std::size_t>(from)]).normalized();
+        if (clearance(from, ahead) < min_angle_) continue;
+        // Shaped and as long as one of the city's side streets.
+        const Example& example = example_for(false);
+        Street s;
+        s.from = from;
+        s.heading = angle_of(ahead);
+        s.length = typical_;
+        s.shape = {Vec2(0, 0), Vec2(1, 0)};
+        s.highway = common_class_;
+        if (!example.branches.empty()) {
+            const Branch& b = example.branches[std::uniform_int_distribution<std::size_t>(0, example.branches.size() - 1)(rng_)];
+            s.length = b.length;
+            s.shape = b.shape;
+        }
+        s.generation = 1;
+        s.order = order_++;
+        queue_.push(std::move(s));
+        opened.push_back(p);
+        ++report_.empty_ground;
+    }
+    return !opened.empty();
 }
 
 void Tracer::offset_crossings() {

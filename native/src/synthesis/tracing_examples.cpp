@@ -293,6 +293,32 @@ void Tracer::measure_density(const GeometricGraph& city, double radius) {
             if (const long c = cell_of(0.5 * (p[k] + p[k + 1])); c >= 0 && counted[static_cast<std::size_t>(c)]) length += (p[k + 1] - p[k]).norm();
         }
     }
+    // How much of the ground around the region is far from every street (its parks, its
+    // hillsides, water): the region may have as much of it, and no more (open_empty_ground).
+    {
+        std::vector<spatial::EdgeEntry> entries;
+        entries.reserve(city.edge_count());
+        for (std::size_t e = 0; e < city.edge_count(); ++e) entries.push_back({spatial::edge_box(city, static_cast<EdgeId>(e)), static_cast<EdgeId>(e)});
+        const spatial::RTree<spatial::EdgeEntry> streets(entries.begin(), entries.end());
+        std::size_t all = 0, far = 0;
+        for (long j = 0; j < rows; ++j) {
+            for (long i = 0; i < columns; ++i) {
+                const Vec2 centre = lo + Vec2((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell);
+                if (inside(region_, centre) || distance_to_ring(region_, centre) < 0.75 * cell ||
+                    (std::isfinite(radius) && distance_to_ring(region_, centre) > radius)) {
+                    continue;
+                }
+                double d = 4.0 * cell;
+                for (auto it = streets.qbegin(spatial::bgi::intersects(spatial::around(centre, d))); it != streets.qend(); ++it) {
+                    const Vec2* q = city.geometry_begin(it->second);
+                    for (std::size_t k = 0; k + 1 < city.geometry_size(it->second); ++k) d = std::min(d, distance_to_segment(centre, q[k], q[k + 1]));
+                }
+                ++all;
+                if (d > empty_reach * cell) ++far;
+            }
+        }
+        empty_share_ = all >= 16 ? static_cast<double>(far) / static_cast<double>(all) : 1.0;
+    }
     // Too little ground to say (a few cells): no cap.
     density_ = cells >= 16 ? length / (static_cast<double>(cells) * cell * cell) : 0.0;
     junction_density_ = cells >= 16 ? static_cast<double>(junctions) / (static_cast<double>(cells) * cell * cell) : 0.0;

@@ -343,6 +343,13 @@ private:
 
     // ---- tracing (street_tracing.cpp) ------------------------------------------------------
 
+    // Where more of the region is far from every street (empty_reach typical streets) than of
+    // the ground around it (empty_share_), the farthest place of each empty piece (inside a grown
+    // street that closed on itself, or where every street stopped short) gets a street: from
+    // the nearest grown street, a new junction opened towards it, traced on as any other. False
+    // where the region is no emptier than the city.
+    bool open_empty_ground();
+
     // Offset crossings, as often as the city has them (offset_share_): at a grown crossing of
     // two straight streets, one side street moved a few metres (offsets_) along the street it
     // crosses, where it crosses nothing there. Two T's a few metres apart are the grain of
@@ -395,6 +402,10 @@ private:
     double density_ = 0.0;  // metres of street per square metre around the region (0: no cap)
     double junction_density_ = 0.0; // junctions (three streets or more) per square metre there
     std::size_t density_cells_ = 0; // cells of ground it was measured on
+    // Of the ground around the region, the share farther than empty_reach typical streets from
+    // every street (1: unknown).
+    static constexpr double empty_reach = 2.0;
+    double empty_share_ = 1.0;
     double expected_streets_ = 1.0;
     const double min_angle_ = M_PI / 6;
     // No new junction within this many typical streets of another: the spacing of junctions.

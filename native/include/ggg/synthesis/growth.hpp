@@ -165,6 +165,7 @@ struct GrowReport {
     std::size_t traced_across = 0;      // streets of the base joined straight across to one facing them
     std::size_t traced_avenues = 0;     // main roads across the grid laid on straight until two meet
     std::size_t traced_crossed = 0;     // traced streets sent on across a street they met, as often as the city's junctions are crossings
+    std::size_t traced_empty_ground = 0;     // streets opened into ground farther from every street than the city's ground around the region is
     std::size_t traced_offset_crossings = 0; // grown crossings made two T-junctions a few metres apart, as often as the city has them
     std::size_t traced_junction_islands = 0; // short streets cutting the corner of a grown T-junction (a fork, a slip road), as often as the city has them
     std::size_t added_vertices = 0;
