@@ -35,14 +35,17 @@ Tracer::Tracer(GeometricGraph& g, std::size_t base_vertices, const GeometricGrap
         other_examples_.clear();
         learn_examples(city, std::numeric_limits<double>::infinity());
         measure_density(city, std::numeric_limits<double>::infinity());
+        measure_empty_ground(city, std::numeric_limits<double>::infinity());
     } else {
         // The density of the ground next to the region, which says best how dense the streets
         // it continues are (a city's parts differ: a port beside a grid of houses); further
         // out where there is too little of it.
+        double measured = 0.0;
         for (double band = 3.0 * typical_; band <= 2.0 * size; band *= 2) {
-            measure_density(g_, band);
+            measure_density(g_, measured = band);
             if (density_cells_ >= 64) break;
         }
+        if (measured > 0.0) measure_empty_ground(g_, measured);
     }
 }
 

@@ -293,36 +293,53 @@ void Tracer::measure_density(const GeometricGraph& city, double radius) {
             if (const long c = cell_of(0.5 * (p[k] + p[k + 1])); c >= 0 && counted[static_cast<std::size_t>(c)]) length += (p[k + 1] - p[k]).norm();
         }
     }
-    // How much of the ground around the region is far from every street (its parks, its
-    // hillsides, water): the region may have as much of it, and no more (open_empty_ground).
-    {
-        std::vector<spatial::EdgeEntry> entries;
-        entries.reserve(city.edge_count());
-        for (std::size_t e = 0; e < city.edge_count(); ++e) entries.push_back({spatial::edge_box(city, static_cast<EdgeId>(e)), static_cast<EdgeId>(e)});
-        const spatial::RTree<spatial::EdgeEntry> streets(entries.begin(), entries.end());
-        std::size_t all = 0, far = 0;
-        for (long j = 0; j < rows; ++j) {
-            for (long i = 0; i < columns; ++i) {
-                const Vec2 centre = lo + Vec2((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell);
-                if (inside(region_, centre) || distance_to_ring(region_, centre) < 0.75 * cell ||
-                    (std::isfinite(radius) && distance_to_ring(region_, centre) > radius)) {
-                    continue;
-                }
-                double d = 4.0 * cell;
-                for (auto it = streets.qbegin(spatial::bgi::intersects(spatial::around(centre, d))); it != streets.qend(); ++it) {
-                    const Vec2* q = city.geometry_begin(it->second);
-                    for (std::size_t k = 0; k + 1 < city.geometry_size(it->second); ++k) d = std::min(d, distance_to_segment(centre, q[k], q[k + 1]));
-                }
-                ++all;
-                if (d > empty_reach * cell) ++far;
-            }
-        }
-        empty_share_ = all >= 16 ? static_cast<double>(far) / static_cast<double>(all) : 1.0;
-    }
     // Too little ground to say (a few cells): no cap.
     density_ = cells >= 16 ? length / (static_cast<double>(cells) * cell * cell) : 0.0;
     junction_density_ = cells >= 16 ? static_cast<double>(junctions) / (static_cast<double>(cells) * cell * cell) : 0.0;
     density_cells_ = cells;
+}
+
+void Tracer::measure_empty_ground(const GeometricGraph& city, double radius) {
+    // How much of the ground around the region is far from every street (its parks, its
+    // hillsides, water): the region may have as much of it, and no more (open_empty_ground).
+    // The cells of measure_density, all of them.
+    const double cell = typical_;
+    Eigen::AlignedBox2d ground = bounds(city.positions.begin(), city.positions.end());
+    if (std::isfinite(radius)) {
+        const Eigen::AlignedBox2d near = bounds(region_.begin(), region_.end());
+        ground = ground.intersection(Eigen::AlignedBox2d(near.min() - Vec2(radius, radius), near.max() + Vec2(radius, radius)));
+    }
+    if (ground.isEmpty()) return;
+    const Vec2 lo = ground.min(), hi = ground.max();
+    const auto columns = static_cast<long>(std::ceil((hi.x() - lo.x()) / cell)) + 1;
+    const auto rows = static_cast<long>(std::ceil((hi.y() - lo.y()) / cell)) + 1;
+    if (columns <= 0 || rows <= 0 || columns * rows > 4'000'000) return;
+    std::vector<spatial::EdgeEntry> entries;
+    entries.reserve(city.edge_count());
+    const spatial::Box reach({lo.x() - 4.0 * cell, lo.y() - 4.0 * cell}, {hi.x() + 4.0 * cell, hi.y() + 4.0 * cell});
+    for (std::size_t e = 0; e < city.edge_count(); ++e) {
+        const spatial::Box box = spatial::edge_box(city, static_cast<EdgeId>(e));
+        if (spatial::bg::intersects(box, reach)) entries.push_back({box, static_cast<EdgeId>(e)});
+    }
+    const spatial::RTree<spatial::EdgeEntry> streets(entries.begin(), entries.end());
+    std::size_t all = 0, far = 0;
+    for (long j = 0; j < rows; ++j) {
+        for (long i = 0; i < columns; ++i) {
+            const Vec2 centre = lo + Vec2((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell);
+            if (inside(region_, centre) || distance_to_ring(region_, centre) < 0.75 * cell ||
+                (std::isfinite(radius) && distance_to_ring(region_, centre) > radius)) {
+                continue;
+            }
+            double d = 4.0 * cell;
+            for (auto it = streets.qbegin(spatial::bgi::intersects(spatial::around(centre, d))); it != streets.qend(); ++it) {
+                const Vec2* q = city.geometry_begin(it->second);
+                for (std::size_t k = 0; k + 1 < city.geometry_size(it->second); ++k) d = std::min(d, distance_to_segment(centre, q[k], q[k + 1]));
+            }
+            ++all;
+            if (d > empty_reach * cell) ++far;
+        }
+    }
+    empty_share_ = all >= 16 ? static_cast<double>(far) / static_cast<double>(all) : 1.0;
 }
 
 void Tracer::pick_common_class(const std::vector<std::size_t>& class_counts) {

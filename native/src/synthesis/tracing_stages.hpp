@@ -145,6 +145,11 @@ private:
     // the region (density_; 0 where there is too little to say).
     void measure_density(const GeometricGraph& city, double radius);
 
+    // The share of the ground measure_density measured on (every cell of it, not only those
+    // with a street vertex near) that is farther than empty_reach typical streets from every
+    // street: empty_share_.
+    void measure_empty_ground(const GeometricGraph& city, double radius);
+
     // The class of a new side street: the examples' most common one.
     void pick_common_class(const std::vector<std::size_t>& class_counts);
 
