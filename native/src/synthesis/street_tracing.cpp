@@ -192,7 +192,9 @@ bool Tracer::open_empty_ground() {
     if (empty.empty() || static_cast<double>(empty.size()) <= empty_share_ * static_cast<double>(all)) return false;
     std::sort(empty.begin(), empty.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     std::vector<Vec2> opened;
-    for (const auto& [d, p] : empty) {
+    for (const auto& place : empty) {
+        const double d = place.first;
+        const Vec2 p = place.second;
         // One street into each empty place a round: those near it wait for the next round.
         if (std::any_of(opened.begin(), opened.end(), [&](const Vec2& o) { return (o - p).norm() < 2.0 * d; })) continue;
         const std::optional<Near> near = nearest_street(p, 1.01 * d, -1);
