@@ -235,6 +235,53 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
     if (angles > 0) right_share_ = static_cast<double>(right) / static_cast<double>(angles);
 }
 
+namespace {
+
+// The cells of a typical street's size around the region (within `radius` of it, over the
+// city's extent) and clear of it: cells the region's border runs through are partly the
+// region's (empty) ground. Empty where there are none or too many to look at.
+struct BandCells {
+    Vec2 lo = Vec2::Zero();
+    double cell = 0.0;
+    long columns = 0, rows = 0;
+    std::vector<char> in_band; // per cell, row by row
+    Vec2 centre(long i, long j) const { return lo + Vec2((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell); }
+    long cell_of(const Vec2& p) const {
+        const auto i = static_cast<long>(std::floor((p.x() - lo.x()) / cell)), j = static_cast<long>(std::floor((p.y() - lo.y()) / cell));
+        return i < 0 || j < 0 || i >= columns || j >= rows ? -1 : j * columns + i;
+    }
+};
+
+BandCells band_cells(const GeometricGraph& city, const std::vector<Vec2>& region, double cell, double radius) {
+    BandCells band;
+    Eigen::AlignedBox2d ground = bounds(city.positions.begin(), city.positions.end());
+    if (std::isfinite(radius)) {
+        const Eigen::AlignedBox2d near = bounds(region.begin(), region.end());
+        ground = ground.intersection(Eigen::AlignedBox2d(near.min() - Vec2(radius, radius), near.max() + Vec2(radius, radius)));
+    }
+    if (ground.isEmpty()) return band;
+    const Vec2 lo = ground.min(), hi = ground.max();
+    const auto columns = static_cast<long>(std::ceil((hi.x() - lo.x()) / cell)) + 1;
+    const auto rows = static_cast<long>(std::ceil((hi.y() - lo.y()) / cell)) + 1;
+    if (columns <= 0 || rows <= 0 || columns * rows > 4'000'000) return band;
+    band.lo = lo;
+    band.cell = cell;
+    band.columns = columns;
+    band.rows = rows;
+    band.in_band.assign(static_cast<std::size_t>(columns * rows), 0);
+    for (long j = 0; j < rows; ++j) {
+        for (long i = 0; i < columns; ++i) {
+            const Vec2 centre = band.centre(i, j);
+            band.in_band[static_cast<std::size_t>(j * columns + i)] =
+                !inside(region, centre) && distance_to_ring(region, centre) >= 0.75 * cell &&
+                !(std::isfinite(radius) && distance_to_ring(region, centre) > radius);
+        }
+    }
+    return band;
+}
+
+} // namespace
+
 void Tracer::measure_density(const GeometricGraph& city, double radius) {
     // Cells of a typical street's size, around the region (within `radius`) and outside it,
     // that have a street vertex in them or next to them: the ground the city covers. Ground
@@ -242,20 +289,10 @@ void Tracer::measure_density(const GeometricGraph& city, double radius) {
     // make the city look sparser than it is; its own squares and parks, up to three cells
     // across, count.
     const double cell = typical_;
-    Eigen::AlignedBox2d ground = bounds(city.positions.begin(), city.positions.end());
-    if (std::isfinite(radius)) {
-        const Eigen::AlignedBox2d near = bounds(region_.begin(), region_.end());
-        ground = ground.intersection(Eigen::AlignedBox2d(near.min() - Vec2(radius, radius), near.max() + Vec2(radius, radius)));
-    }
-    if (ground.isEmpty()) return;
-    const Vec2 lo = ground.min(), hi = ground.max();
-    const auto columns = static_cast<long>(std::ceil((hi.x() - lo.x()) / cell)) + 1;
-    const auto rows = static_cast<long>(std::ceil((hi.y() - lo.y()) / cell)) + 1;
-    if (columns <= 0 || rows <= 0 || columns * rows > 4'000'000) return;
-    auto cell_of = [&](const Vec2& p) -> long {
-        const auto i = static_cast<long>(std::floor((p.x() - lo.x()) / cell)), j = static_cast<long>(std::floor((p.y() - lo.y()) / cell));
-        return i < 0 || j < 0 || i >= columns || j >= rows ? -1 : j * columns + i;
-    };
+    const BandCells band = band_cells(city, region_, cell, radius);
+    if (band.in_band.empty()) return;
+    const long columns = band.columns, rows = band.rows;
+    auto cell_of = [&](const Vec2& p) { return band.cell_of(p); };
     std::vector<char> has_vertex(static_cast<std::size_t>(columns * rows), 0);
     for (const Vec2& p : city.positions) {
         if (const long c = cell_of(p); c >= 0) has_vertex[static_cast<std::size_t>(c)] = 1;
@@ -264,12 +301,7 @@ void Tracer::measure_density(const GeometricGraph& city, double radius) {
     std::size_t cells = 0;
     for (long j = 0; j < rows; ++j) {
         for (long i = 0; i < columns; ++i) {
-            const Vec2 centre = lo + Vec2((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell);
-            // Cells the region's border runs through are partly the region's (empty) ground.
-            if (inside(region_, centre) || distance_to_ring(region_, centre) < 0.75 * cell ||
-                (std::isfinite(radius) && distance_to_ring(region_, centre) > radius)) {
-                continue;
-            }
+            if (!band.in_band[static_cast<std::size_t>(j * columns + i)]) continue;
             bool covered = false;
             for (long dj = -1; dj <= 1 && !covered; ++dj) {
                 for (long di = -1; di <= 1 && !covered; ++di) {
@@ -304,18 +336,10 @@ void Tracer::measure_empty_ground(const GeometricGraph& city, double radius) {
     // hillsides, water): the region may have as much of it, and no more (open_empty_ground).
     // The cells of measure_density, all of them.
     const double cell = typical_;
-    Eigen::AlignedBox2d ground = bounds(city.positions.begin(), city.positions.end());
-    if (std::isfinite(radius)) {
-        const Eigen::AlignedBox2d near = bounds(region_.begin(), region_.end());
-        ground = ground.intersection(Eigen::AlignedBox2d(near.min() - Vec2(radius, radius), near.max() + Vec2(radius, radius)));
-    }
-    if (ground.isEmpty()) return;
-    const Vec2 lo = ground.min(), hi = ground.max();
-    const auto columns = static_cast<long>(std::ceil((hi.x() - lo.x()) / cell)) + 1;
-    const auto rows = static_cast<long>(std::ceil((hi.y() - lo.y()) / cell)) + 1;
-    if (columns <= 0 || rows <= 0 || columns * rows > 4'000'000) return;
+    const BandCells band = band_cells(city, region_, cell, radius);
+    if (band.in_band.empty()) return;
+    const Vec2 lo = band.lo, hi = band.lo + cell * Vec2(static_cast<double>(band.columns), static_cast<double>(band.rows));
     std::vector<spatial::EdgeEntry> entries;
-    entries.reserve(city.edge_count());
     const spatial::Box reach({lo.x() - 4.0 * cell, lo.y() - 4.0 * cell}, {hi.x() + 4.0 * cell, hi.y() + 4.0 * cell});
     for (std::size_t e = 0; e < city.edge_count(); ++e) {
         const spatial::Box box = spatial::edge_box(city, static_cast<EdgeId>(e));
@@ -323,13 +347,10 @@ void Tracer::measure_empty_ground(const GeometricGraph& city, double radius) {
     }
     const spatial::RTree<spatial::EdgeEntry> streets(entries.begin(), entries.end());
     std::size_t all = 0, far = 0;
-    for (long j = 0; j < rows; ++j) {
-        for (long i = 0; i < columns; ++i) {
-            const Vec2 centre = lo + Vec2((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell);
-            if (inside(region_, centre) || distance_to_ring(region_, centre) < 0.75 * cell ||
-                (std::isfinite(radius) && distance_to_ring(region_, centre) > radius)) {
-                continue;
-            }
+    for (long j = 0; j < band.rows; ++j) {
+        for (long i = 0; i < band.columns; ++i) {
+            if (!band.in_band[static_cast<std::size_t>(j * band.columns + i)]) continue;
+            const Vec2 centre = band.centre(i, j);
             double d = 4.0 * cell;
             for (auto it = streets.qbegin(spatial::bgi::intersects(spatial::around(centre, d))); it != streets.qend(); ++it) {
                 const Vec2* q = city.geometry_begin(it->second);
