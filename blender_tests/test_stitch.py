@@ -439,6 +439,13 @@ def _renamed(text, prefix):
     """Give the grammar of ``text`` other symbol names (prefix + name), so that its rules
     differ from those of the other town; the names, in order."""
     data = json.loads(text.as_string())
+    if "symbols" not in data:
+        # A learned grammar (version 6) leaves out the names R1, R2, ... it gives its rules:
+        # naming them in "symbols" renames them.
+        names = ["R{}".format(k + 1) for k in range(len(data["rules"][0]))]
+        data["symbols"] = [prefix + name for name in names]
+        text.from_string(json.dumps(data))
+        return data["symbols"]
     names = list(data["symbols"])
     content = text.as_string()
     for name in names:

@@ -18,6 +18,8 @@ packages=(
   libxtst6
   # The 3-D city: Clipper polygon clipping (native), PIL for the docs pictures' palettes.
   libpolyclipping-dev python3-pil
+  # The JSON Schemas of docs/schemas, checked against the files ggg writes.
+  python3-jsonschema
   # libFuzzer harnesses (cmake -DGGG_FUZZ=ON, scripts/fuzz.sh): clang 14 with its sanitizer
   # runtimes; osmium-tool turns the OSM seed slices into PBF and OPL.
   clang libclang-rt-14-dev osmium-tool

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "ggg/graph/geometric_graph.hpp"
 
 namespace ggg::test {
@@ -27,6 +29,11 @@ std::size_t polyline_crossings(const GeometricGraph& g, std::size_t from_edge = 
 
 // Vertices that share a place (the same `quantum` cell) with another vertex.
 std::size_t shared_places(const GeometricGraph& g, double quantum = 0.01);
+
+// Column `name` of `section` ("rules", "axiom" or "encoding") of a packed grammar document
+// (version 6 places its columns instead of naming them), made present where it was left out;
+// `settings` reaches the encoding's settings ("mode", "tolerance_m", ...) the same way.
+nlohmann::json& packed_column(nlohmann::json& doc, const std::string& section, const std::string& name);
 
 // Result of running the CLI: exit code, stdout, stderr.
 struct CliResult {

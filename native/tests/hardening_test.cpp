@@ -23,6 +23,7 @@
 #include "ggg/error.hpp"
 #include "ggg/files.hpp"
 #include "ggg/io/geojson.hpp"
+#include "ggg/encoding/grammar_encoder.hpp"
 #include "ggg/io/grammar_file.hpp"
 #include "ggg/io/read_graph.hpp"
 
@@ -281,14 +282,16 @@ TEST(Hardening, ADamagedGrammarDoesNotDecode) {
     const std::string grammar = temp_path(".json");
     ASSERT_EQ(run_cli("learn '" + sample_town + "' -o '" + grammar + "'").code, 0);
     auto doc = nlohmann::json::parse(read_all(grammar));
-    ASSERT_TRUE(doc["encoding"].contains("decodes_to"));
-    // The first nonterminal of the axiom moved 10 km (positions are delta-coded quanta: the
-    // next vertex stays): the streets its instance joins are no longer where it aims.
-    auto& x = doc["axiom"]["x"];
-    ASSERT_FALSE(doc["axiom"]["nonterminals"].empty());
-    const auto at = doc["axiom"]["nonterminals"][0].get<std::size_t>();
+    ASSERT_FALSE(test::packed_column(doc, "encoding", "decodes_to").empty());
+    // The first nonterminal of the axiom moved 10 km (positions are delta-coded quanta of
+    // 1 cm, the default: the next vertex stays): the streets its instance joins are no
+    // longer where it aims.
+    auto& x = test::packed_column(doc, "axiom", "x");
+    ASSERT_FALSE(test::packed_column(doc, "axiom", "nonterminals").empty());
+    const auto at = test::packed_column(doc, "axiom", "nonterminals")[0].get<std::size_t>();
     ASSERT_LT(at + 1, x.size());
-    const auto ten_km = static_cast<std::int64_t>(std::llround(10'000.0 / doc["encoding"]["quantum_m"].get<double>()));
+    ASSERT_EQ(LearnOptions{}.quantum_m, 0.01);
+    const auto ten_km = static_cast<std::int64_t>(std::llround(10'000.0 / 0.01));
     x[at] = x[at].get<std::int64_t>() + ten_km;
     x[at + 1] = x[at + 1].get<std::int64_t>() - ten_km;
     const std::string damaged = temp_file(doc.dump(), ".json");

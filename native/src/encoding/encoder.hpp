@@ -8,6 +8,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "ggg/analysis/geometric_isomorphism.hpp"
@@ -53,8 +54,13 @@ inline Complex linear(const Similarity2& s) { return {s.a, s.b}; }
 inline Frame frame_of(Complex z, double scale_inverse_step = 1e4) {
     return {std::max(round_to(std::abs(z), scale_inverse_step), 1.0 / scale_inverse_step), round_to(std::arg(z) * 180.0 / M_PI, 100)};
 }
-// An axiom frame's scale is the size of its copy in metres: to the millimetre.
-inline constexpr double axiom_scale_inverse_step = 1e3;
+// An axiom frame's scale is the size of its copy in metres: to the centimetre, the
+// positions' own quantum (a copy of 600 m then takes three bytes of CBOR, not five).
+inline constexpr double axiom_scale_inverse_step = 1e2;
+// A rule's embedding points (where streets around it are expected, for a user placing it
+// and for the instances that reuse them) to a hundredth of the rule's size: a street's end
+// is not known closer, and a point then takes four or five bytes of CBOR, not seven.
+inline constexpr double rule_point_inverse_step = 1e2;
 inline Frame correction_of(Complex z) { return {std::max(round_to(std::abs(z), 1e6), 1e-6), round_to(std::arg(z) * 180.0 / M_PI, 1e4)}; }
 
 // 1 / quantum as the exact power of ten (1.0 / 1e-6 is not exactly 1e6).
@@ -125,8 +131,10 @@ private:
     // Makes a rule of `group` from those of its occurrences that are free, fit its shape and
     // sit in consistent frames, and records an instance for each; nothing when too few are
     // left (or, paying, when they no longer pay).
-    void encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
-                      std::vector<std::int32_t>& level_instances, LevelReport& lr);
+    // With `gain_only`, nothing is encoded: returns what the group would save as it is
+    // priced now (strict_gain_), or nothing where too few of its copies would be kept.
+    std::optional<double> encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
+                                       std::vector<std::int32_t>& level_instances, LevelReport& lr, bool gain_only = false);
 
     // What encoding these occurrences as instances of one rule saves, in bytes of the packed
     // grammar file against the packed graph (docs/learning.md#size): the positions and

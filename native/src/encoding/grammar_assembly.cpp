@@ -296,7 +296,7 @@ void Encoder::embed(Grammar& grammar) {
         std::vector<RawLink> links = raw[static_cast<std::size_t>(best[r])];
         std::stable_sort(links.begin(), links.end(), [](const RawLink& a, const RawLink& b) { return a.vertex < b.vertex; });
         for (const RawLink& l : links) {
-            EmbeddingPoint ep{round_to(offset_of(static_cast<std::size_t>(best[r]), l), 1e4), l.highway};
+            EmbeddingPoint ep{round_to(offset_of(static_cast<std::size_t>(best[r]), l), rule_point_inverse_step), l.highway};
             grammar.rules[r].vertices[static_cast<std::size_t>(l.vertex)].embedding.push_back(ep);
             rule_points[r].emplace_back(l.vertex, ep);
         }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <unordered_map>
 
@@ -125,30 +126,43 @@ bool Encoder::encode_level(int level, bool seeded, Take take) {
     lr.level = level;
     lr.vertices = graph_.vertex_count();
     lr.edges = graph_.edge_count();
-    auto encode_groups = [&](bool first_rule_only) {
-        for (const AnalyzedIsogroup& ag : analysis.isogroups) {
-            if (first_rule_only && !level_instances.empty()) break;
-            if (seeded && &ag != &analysis.isogroups.front()) break; // the seed's own group only
-            // The analyzer ranks by its own count of numbers; whether a group pays in the
-            // packed file is decided for each (encode_group), so every group is tried, best first.
-            if (ag.group.order() < 2 || ag.group.pattern.edges.empty()) continue;
-            // One street between two street vertices is no pattern (every street is one): with
-            // links as cheap as they are, it would pay as a rule, and a grammar of single streets
-            // shows nothing and grows nothing. Complete encoding takes it when nothing else is left.
-            const auto& symbols = ag.group.pattern.symbols;
-            if (take == Take::paying && ag.group.order() == 2 && symbols[0] == 0 && symbols[1] == 0) continue;
-            if (ag.selection.non_overlapping.size() < options_.analysis.detection.min_count) continue;
-            encode_group(ag.group, seeded ? Take::seed : take, level, adj, used, level_instances, lr);
-        }
+    auto eligible = [&](const AnalyzedIsogroup& ag) {
+        // The analyzer ranks by its own count of numbers; whether a group pays in the
+        // packed file is decided for each (encode_group), so every group is tried, best first.
+        if (ag.group.order() < 2 || ag.group.pattern.edges.empty()) return false;
+        // One street between two street vertices is no pattern (every street is one): with
+        // links as cheap as they are, it would pay as a rule, and a grammar of single streets
+        // shows nothing and grows nothing. Complete encoding takes it when nothing else is left.
+        const auto& symbols = ag.group.pattern.symbols;
+        if (take == Take::paying && ag.group.order() == 2 && symbols[0] == 0 && symbols[1] == 0) return false;
+        return ag.selection.non_overlapping.size() >= options_.analysis.detection.min_count;
     };
-    encode_groups(false);
+    for (const AnalyzedIsogroup& ag : analysis.isogroups) {
+        if (seeded && &ag != &analysis.isogroups.front()) break; // the seed's own group only
+        if (eligible(ag)) encode_group(ag.group, seeded ? Take::seed : take, level, adj, used, level_instances, lr);
+    }
     if (level_instances.empty() && rules_.empty() && take == Take::paying && !seeded) {
         // Nothing pays for its rule and residuals as well: a grammar without rules shows
-        // nothing and grows nothing, so the first pass takes the best pattern whose copies
-        // would pay for themselves in paper mode (one rule: the file grows by little).
-        strict_gain_ = false;
-        encode_groups(true);
-        strict_gain_ = true;
+        // nothing and grows nothing, so the first pass takes one pattern whose copies would
+        // pay for themselves in paper mode: of those, the one that costs least with its rule
+        // and residuals (the file grows by little, or even shrinks: the count is an estimate).
+        const AnalyzedIsogroup* cheapest = nullptr;
+        double cheapest_gain = -std::numeric_limits<double>::infinity();
+        LevelReport scratch;
+        for (const AnalyzedIsogroup& ag : analysis.isogroups) {
+            if (!eligible(ag)) continue;
+            strict_gain_ = false;
+            const auto paper = encode_group(ag.group, take, level, adj, used, level_instances, scratch, true);
+            strict_gain_ = true;
+            if (!paper || *paper <= 0) continue;
+            const auto strict = encode_group(ag.group, take, level, adj, used, level_instances, scratch, true);
+            if (strict && *strict > cheapest_gain) cheapest = &ag, cheapest_gain = *strict;
+        }
+        if (cheapest) {
+            strict_gain_ = false;
+            encode_group(cheapest->group, take, level, adj, used, level_instances, lr);
+            strict_gain_ = true;
+        }
     }
     if (level_instances.empty()) {
         if (seeded) lr.seconds = seconds_since(level_start), result_.levels.push_back(lr);

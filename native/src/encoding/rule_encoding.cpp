@@ -66,8 +66,8 @@ EdgeId edge_between(const GeometricGraph&, const Adjacency& adj, VertexId u, Ver
 
 } // namespace
 
-void Encoder::encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
-                  std::vector<std::int32_t>& level_instances, LevelReport& lr) {
+std::optional<double> Encoder::encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
+                                           std::vector<std::int32_t>& level_instances, LevelReport& lr, bool gain_only) {
     const std::size_t k = group.order();
     const std::size_t min_count = take == Take::once ? 1 : options_.analysis.detection.min_count;
     std::vector<std::vector<VertexId>> occs;
@@ -77,7 +77,7 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
             occs.emplace_back(occ.begin(), occ.end());
         }
     }
-    if (occs.size() < min_count) return;
+    if (occs.size() < min_count) return std::nullopt;
 
     // Each occurrence's frame, fitted to its vertices (among the pattern's symmetries,
     // the labelling whose frame turns least from the map's axes, so that the
@@ -125,14 +125,15 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
     occs.resize(kept);
     fits.resize(kept);
     choose_aligned(occs, fits, static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
-    if (occs.size() < min_count) return;
+    if (occs.size() < min_count) return std::nullopt;
     std::vector<Frame> transforms(k);
     const std::size_t before = occs.size();
     consistent_frames(group, occs, fits, transforms);
     lr.frame_rejected += before - occs.size();
-    if (occs.size() < min_count) return;
+    if (occs.size() < min_count) return std::nullopt;
     const double gain = packed_gain(group, occs, fits, transforms, adj);
-    if (take == Take::paying && gain <= 0) return;
+    if (gain_only) return gain;
+    if (take == Take::paying && gain <= 0) return std::nullopt;
 
     const int rep = representative_vertex(graph_, adj, occs);
     RuleDraft draft;
@@ -200,6 +201,7 @@ void Encoder::encode_group(const Isogroup& group, Take take, int level, const Ad
     ++lr.rules;
     rules_.push_back(std::move(draft));
     rotations_.push_back(static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
+    return gain;
 }
 
 double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector<VertexId>>& occs, const std::vector<Similarity2>& fits,
@@ -231,7 +233,7 @@ double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector
                 // shift of its instance, from the frame the rule's T_j gives it: a row of equal
                 // blocks needs next to none, an irregular district as many bytes as it saves.
                 const Similarity2& frame = graph_.frames[v];
-                saved += cbor_bytes(std::llround(frame.scale() * 1e3)) + cbor_bytes(std::llround(frame.angle() * 180.0 / M_PI * 100.0)) + 1.0;
+                saved += cbor_bytes(std::llround(frame.scale() * axiom_scale_inverse_step)) + cbor_bytes(std::llround(frame.angle() * 180.0 / M_PI * 100.0)) + 1.0;
                 const Complex correction = linear(frame) / (linear(fits[c]) * std::polar(transforms[j].scale, transforms[j].rotation_deg * M_PI / 180.0));
                 saved -= cbor_bytes(std::llround((std::abs(correction) - 1.0) * 1e6)) + cbor_bytes(std::llround(std::arg(correction) * 180.0 / M_PI * 1e4));
                 const Vec2 placed = options_.lossless ? graph_.positions[v] : fits[c].apply(pattern.positions[j]);

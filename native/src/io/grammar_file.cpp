@@ -101,7 +101,7 @@ json encoding_json(const Encoding& enc) {
 } // namespace
 
 json grammar_to_json(const Grammar& g) {
-    // A learned grammar is data: packed (version 5) wherever its values fit the packed units.
+    // A learned grammar is data: packed (version 6) wherever its values fit the packed units.
     if (!g.encoding.empty()) {
         if (auto packed = io_detail::pack_grammar(g)) return std::move(*packed);
     }

@@ -105,6 +105,79 @@ std::optional<double> tolerance_of_code(std::int64_t code) {
     return one_digit_decimal(static_cast<double>(m), e);
 }
 
+// The columns of `section` (named, as in the layout of version 5) in place order; a column missing or
+// empty at the end is left out, one missing before a later one is [].
+json by_place(const json& section, const auto& names) {
+    json out = json::array();
+    for (const char* name : names) out.push_back(section.contains(name) ? section.at(name) : json::array());
+    while (!out.empty() && out.back().empty()) out.erase(out.size() - 1);
+    return out;
+}
+
+bool default_symbol_names(const json& symbols) {
+    for (std::size_t k = 0; k < symbols.size(); ++k) {
+        if (symbols[k] != "R" + std::to_string(k + 1)) return false;
+    }
+    return true;
+}
+
+// A setting of metres as its one-digit decimal code (one or two bytes), else as the number.
+json metres(double m) {
+    if (const auto code = tolerance_code(m)) return *code;
+    return m;
+}
+
+// Columns of values in a fixed unit of 10^-finest (the rules' embedding points, the axiom's
+// frame scales) are written in version 6 in the coarsest power of ten that holds every value
+// exactly, after its exponent: [e, values...], e from 0 to `finest`. The entries of that
+// kind are those at `kind` (the x and y of each (x, y, class) point: {0, 1} of 3).
+struct UnitColumn {
+    const char* section;
+    const char* name;
+    std::size_t stride;
+    std::vector<std::size_t> kind;
+    int finest;
+};
+const std::array<UnitColumn, 2> unit_columns = {UnitColumn{"rules", "points", 3, {0, 1}, 4}, UnitColumn{"axiom", "frames", 2, {0}, 3}};
+
+bool of_kind(const UnitColumn& c, std::size_t i) { return std::find(c.kind.begin(), c.kind.end(), i % c.stride) != c.kind.end(); }
+
+json in_coarsest_unit(const json& column, const UnitColumn& c) {
+    int e = c.finest;
+    std::int64_t step = 1;
+    while (e > 0) {
+        const std::int64_t coarser = step * 10;
+        bool exact = true;
+        for (std::size_t i = 0; i < column.size() && exact; ++i) exact = !of_kind(c, i) || column[i].get<std::int64_t>() % coarser == 0;
+        if (!exact) break;
+        step = coarser;
+        --e;
+    }
+    json out = json::array({e});
+    for (std::size_t i = 0; i < column.size(); ++i) out.push_back(of_kind(c, i) ? column[i].get<std::int64_t>() / step : column[i].get<std::int64_t>());
+    return out;
+}
+
+// Version 6 of a document laid out as version 5, its columns named (the Packer builds it so:
+// a column is then found by its name; its values are version 6's).
+json placed_form(json named) {
+    for (const UnitColumn& c : unit_columns) {
+        json& section = named.at(c.section);
+        if (section.contains(c.name)) section[c.name] = in_coarsest_unit(section[c.name], c);
+    }
+    json doc = {{"format", "ggg-grammar"}, {"version", packed_grammar_version}, {"name", named.at("name")}, {"origin_latlon", named.at("origin_latlon")}};
+    // Learned grammars name their symbols R1, R2, ...: implied where they do.
+    if (!default_symbol_names(named.at("symbols"))) doc["symbols"] = named.at("symbols");
+    doc["rules"] = by_place(named.at("rules"), rule_columns);
+    doc["axiom"] = by_place(named.at("axiom"), axiom_columns);
+    const json& enc = named.at("encoding");
+    json encoding = {enc.at("mode"), enc.at("levels"), metres(enc.at("tolerance_m").get<double>()), metres(enc.at("quantum_m").get<double>()),
+                     enc.contains("decodes_to") ? enc.at("decodes_to") : json::array()};
+    for (json& column : by_place(enc, instance_columns)) encoding.push_back(std::move(column));
+    doc["encoding"] = std::move(encoding);
+    return doc;
+}
+
 class Packer {
 public:
     explicit Packer(const Grammar& g) : g_(g) {}
@@ -144,7 +217,7 @@ public:
         doc["rules"] = std::move(rules);
         doc["axiom"] = std::move(axiom);
         doc["encoding"] = std::move(encoding);
-        return doc;
+        return placed_form(std::move(doc));
     }
 
 private:
@@ -305,6 +378,10 @@ private:
                 if (static_cast<std::size_t>(l.highway) >= highway_class_count || l.rank < 0) return false;
                 ++class_uses[static_cast<std::size_t>(l.highway)];
             }
+            for (const auto& [edge, highway] : inst.edge_classes) {
+                if (static_cast<std::size_t>(highway) >= highway_class_count) return false;
+                ++class_uses[static_cast<std::size_t>(highway)];
+            }
         }
         const ByUse classes_by_use = by_use(class_uses);
         link_classes = classes_by_use.order;
@@ -356,15 +433,21 @@ private:
                 if (!pack_links(inst.embedding, rule.vertices.size(), rank, embedding)) return false;
                 last_links = n;
             }
-            // Every instance: its links by rank, as (code, rank) pairs after their count.
+            // Every instance: its links by rank after their count, each one number: its code
+            // (rule vertex and class) plus the rank times the number of codes, so that a link
+            // to the nearest vertex, the most common, takes one byte of CBOR.
+            const auto codes = static_cast<std::int64_t>(rule.vertices.size() * link_classes.size());
             neighbours.push_back(inst.neighbours.size());
             for (const RuleInstance::Neighbour& l : inst.neighbours) {
-                neighbours.insert(neighbours.end(), {static_cast<std::int64_t>(l.vertex) + static_cast<std::int64_t>(rule.vertices.size()) * rank[static_cast<std::size_t>(l.highway)],
-                                                     static_cast<std::int64_t>(l.rank)});
+                neighbours.push_back(static_cast<std::int64_t>(l.vertex) + static_cast<std::int64_t>(rule.vertices.size()) * rank[static_cast<std::size_t>(l.highway)] +
+                                     codes * l.rank);
             }
+            // A class change: the rule edge plus the class's rank times the rule's edges.
             if (!inst.edge_classes.empty()) {
                 classes.insert(classes.end(), {n - last_classes, inst.edge_classes.size()});
-                for (const auto& [edge, highway] : inst.edge_classes) classes.insert(classes.end(), {edge, static_cast<int>(highway)});
+                for (const auto& [edge, highway] : inst.edge_classes) {
+                    classes.push_back(edge + static_cast<std::int64_t>(rule.edges.size()) * rank[static_cast<std::size_t>(highway)]);
+                }
                 last_classes = n;
             }
         }
@@ -430,9 +513,9 @@ json pack_graph(const GeometricGraph& g, double quantum_m) {
     }
     std::vector<GrammarEdge> edges;
     for (std::size_t e = 0; e < g.edge_count(); ++e) edges.push_back({static_cast<std::int32_t>(g.edges[e][0]), static_cast<std::int32_t>(g.edges[e][1]), g.edge_highway[e]});
-    // The header any file carries, as the grammar's does.
-    return {{"format", "ggg-graph"}, {"version", 1}, {"origin_latlon", {g.origin.lat, g.origin.lon}},
-            {"x", std::move(x)}, {"y", std::move(y)}, {"edges", edge_steps(edges)}};
+    // The header any file carries, as the grammar's does, and the columns by place.
+    return {{"format", "ggg-graph"}, {"version", 2}, {"origin_latlon", {g.origin.lat, g.origin.lon}},
+            {"graph", {std::move(x), std::move(y), edge_steps(edges)}}};
 }
 
 namespace {
@@ -502,7 +585,89 @@ struct Groups {
 
 } // namespace
 
+namespace {
+
+// Version 6 in the named layout of version 5, which the rest of the reader reads: a column
+// out of place is then named as in any version ("rules.x[3]").
+json named_form(const Unpacker& r, const json& doc) {
+    json named = json::object();
+    for (const char* key : {"format", "version", "name", "origin_latlon"}) {
+        if (doc.contains(key)) named[key] = doc.at(key);
+    }
+    auto columns = [&](const char* section, const auto& names, std::size_t skip = 0) {
+        const json& placed = r.array(r.member(doc, section, "file"), section);
+        if (placed.size() > skip + names.size()) {
+            r.fail(section, "has " + std::to_string(placed.size()) + " entries, at most " + std::to_string(skip + names.size()) + " (columns by place)");
+        }
+        json out = json::object();
+        for (std::size_t c = skip; c < placed.size(); ++c) {
+            const char* key = names[c - skip];
+            const std::string where = std::string(section) + "[" + std::to_string(c) + "] (" + key + ")";
+            r.array(placed[c], where);
+            if (!placed[c].empty()) out[key] = placed[c];
+        }
+        return out;
+    };
+    named["rules"] = columns("rules", rule_columns);
+    named["axiom"] = columns("axiom", axiom_columns);
+    for (const UnitColumn& c : unit_columns) {
+        json& section = named[c.section];
+        if (!section.contains(c.name)) continue;
+        const json& column = section[c.name];
+        const std::string where = std::string(c.section) + "." + c.name;
+        const std::int64_t e = r.integer(column[0], where + "[0] (its unit's exponent)", 0, c.finest);
+        std::int64_t step = 1;
+        for (std::int64_t k = e; k < c.finest; ++k) step *= 10;
+        json values = json::array();
+        for (std::size_t i = 1; i < column.size(); ++i) {
+            const std::int64_t v = r.integer(column[i], where + "[" + std::to_string(i) + "]", -1'000'000'000'000'000, 1'000'000'000'000'000);
+            values.push_back(of_kind(c, i - 1) ? v * step : v);
+        }
+        section[c.name] = std::move(values);
+    }
+    json encoding = columns("encoding", instance_columns, encoding_settings.size());
+    const json& placed = doc.at("encoding");
+    if (placed.size() < encoding_settings.size()) r.fail("encoding", "must start with its settings: mode, levels, tolerance, quantum, decodes_to");
+    auto setting_metres = [&](std::size_t at) {
+        const std::string where = std::string("encoding[") + std::to_string(at) + "] (" + encoding_settings[at] + ")";
+        const json& v = placed[at];
+        if (v.is_number_integer()) {
+            const auto m = tolerance_of_code(r.integer(v, where, INT32_MIN, INT32_MAX));
+            if (!m) r.fail(where, "not a code of metres");
+            return json(*m);
+        }
+        return json(r.number(v, where));
+    };
+    encoding["mode"] = placed[0];
+    encoding["levels"] = placed[1];
+    encoding["tolerance_m"] = setting_metres(2);
+    encoding["quantum_m"] = setting_metres(3);
+    if (!r.array(placed[4], "encoding[4] (decodes_to)").empty()) encoding["decodes_to"] = placed[4];
+    named["encoding"] = std::move(encoding);
+    if (const json* symbols = r.optional(doc, "symbols")) {
+        named["symbols"] = *symbols;
+    } else {
+        // Implied: R1 ... Rn, one per rule (a rule per entry of rules.uses).
+        json names = json::array();
+        const std::size_t rules = named["rules"].contains("uses") && named["rules"]["uses"].is_array() ? named["rules"]["uses"].size() : 0;
+        for (std::size_t k = 0; k < rules; ++k) names.push_back("R" + std::to_string(k + 1));
+        named["symbols"] = std::move(names);
+    }
+    return named;
+}
+
+Grammar unpack_named(const json& doc, const std::string& name);
+
+} // namespace
+
 Grammar unpack_grammar(const json& doc, const std::string& name) {
+    if (doc.at("version").get<std::int64_t>() >= 6) return unpack_named(named_form(Unpacker(name), doc), name);
+    return unpack_named(doc, name);
+}
+
+namespace {
+
+Grammar unpack_named(const json& doc, const std::string& name) {
     const Unpacker r(name);
     Grammar g;
     read_grammar_header(r, doc, g);
@@ -665,6 +830,8 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     // Version 5 stores every instance's links by rank (neighbours, at least a count each) and
     // only the tolerances that are not 0; before, one tolerance per instance.
     const bool ranked_links = version >= 5;
+    // Version 6 stores a link by rank, and a class change, as one number each (see Packer).
+    const bool placed_links = version >= 6;
     Cursor tolerance = column(enc_doc, "tolerance", "encoding", JsonReader<GrammarError>::any_size);
     Cursor neighbours = column(enc_doc, "neighbours", "encoding", JsonReader<GrammarError>::any_size);
     if (!ranked_links && !neighbours.values.empty()) r.fail("encoding.neighbours", "is not part of version " + std::to_string(version));
@@ -776,18 +943,29 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
             const auto k_vertices = static_cast<std::int64_t>(rule.vertices.size());
             const auto ranked_count = neighbours.take(0, INT32_MAX);
             if (ranked_count && link_class.empty()) r.fail("encoding.neighbours", "has links, but encoding.link_classes is empty");
+            const std::int64_t codes = k_vertices * static_cast<std::int64_t>(link_class.size());
             for (std::int64_t j = 0; j < ranked_count; ++j) {
                 RuleInstance::Neighbour l;
-                const std::int64_t link_code = neighbours.take(0, k_vertices * static_cast<std::int64_t>(link_class.size()) - 1);
+                // Version 6: code + codes × rank in one number; before, (code, rank).
+                const std::int64_t combined = placed_links ? neighbours.take(0, codes * (RuleInstance::max_rank + 1) - 1) : 0;
+                const std::int64_t link_code = placed_links ? combined % codes : neighbours.take(0, codes - 1);
                 l.vertex = static_cast<std::int32_t>(link_code % k_vertices);
                 l.highway = link_class[static_cast<std::size_t>(link_code / k_vertices)];
-                l.rank = static_cast<std::int32_t>(neighbours.take(0, RuleInstance::max_rank));
+                l.rank = static_cast<std::int32_t>(placed_links ? combined / codes : neighbours.take(0, RuleInstance::max_rank));
                 inst.neighbours.push_back(l);
             }
         }
         const auto class_count = class_groups.count(instance);
+        const auto rule_edges = static_cast<std::int64_t>(rule.edges.size());
         for (std::int64_t j = 0; j < class_count; ++j) {
-            const auto edge = static_cast<std::int32_t>(classes.take(0, static_cast<std::int64_t>(rule.edges.size()) - 1));
+            if (placed_links) {
+                // Version 6: edge + edges × the class's rank in link_classes.
+                if (link_class.empty()) r.fail("encoding.edge_classes", "has class changes, but encoding.link_classes is empty");
+                const std::int64_t code = classes.take(0, rule_edges * static_cast<std::int64_t>(link_class.size()) - 1);
+                inst.edge_classes.emplace_back(static_cast<std::int32_t>(code % rule_edges), link_class[static_cast<std::size_t>(code / rule_edges)]);
+                continue;
+            }
+            const auto edge = static_cast<std::int32_t>(classes.take(0, rule_edges - 1));
             inst.edge_classes.emplace_back(edge, static_cast<HighwayClass>(classes.take(0, class_max)));
         }
         class_groups.done(instance);
@@ -810,6 +988,8 @@ Grammar unpack_grammar(const json& doc, const std::string& name) {
     }
     return g;
 }
+
+} // namespace
 
 namespace {
 

@@ -1,11 +1,12 @@
 #pragma once
-// The packed form of a learned grammar (grammar file version 4, docs/grammar-format.md; the
-// reader takes versions 2 and 3 too: version 3 stores the axiom's nonterminals one by one with
-// their symbols, version 2 also the rule points, class changes and links densely):
+// The packed form of a learned grammar (grammar file version 6, docs/grammar-format.md; the
+// reader takes versions 2 to 5 too, whose columns are named instead of placed, see
+// grammar-format.md#versions):
 // every number an integer in a fixed unit, columns instead of objects, and nothing stored
 // that the derivation already knows (an instance's symbol, which instance rewrites which
 // nonterminal). The same document is written as JSON text or as CBOR, so that a grammar's
 // size can be set fairly beside the graph it encodes in either encoding.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,7 +19,18 @@
 
 namespace ggg::io_detail {
 
-inline constexpr int packed_grammar_version = 5;
+inline constexpr int packed_grammar_version = 6;
+
+// Version 6 places each section's columns in an array instead of naming them: a small town's
+// grammar is a few kilobytes, and the names took a tenth of it. The names, in place order,
+// are written once here (the reader names a damaged column by them; the size report sums
+// them by part). The encoding's array starts with its settings.
+inline constexpr std::array<const char*, 11> rule_columns = {"uses", "size_cm", "vertices", "edges", "x", "y", "symbol", "transform", "embedding", "points", "edge_list"};
+inline constexpr std::array<const char*, 7> axiom_columns = {"x", "y", "nonterminals", "symbol_order", "symbol", "frames", "edges"};
+inline constexpr std::array<const char*, 5> encoding_settings = {"mode", "levels", "tolerance_m", "quantum_m", "decodes_to"};
+inline constexpr std::array<const char*, 9> instance_columns = {"correction", "shift", "residuals", "tolerance", "rule_points", "embedding", "link_classes", "edge_classes", "neighbours"};
+// The packed graph (what a grammar's size is set beside) in the same layout.
+inline constexpr std::array<const char*, 3> graph_columns = {"x", "y", "edges"};
 
 // The packed document of a learned grammar, or nothing when the grammar holds something the
 // packed form has no place for (a value off its unit, a nonterminal without its instance):

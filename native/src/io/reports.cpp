@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <string_view>
 
 #include "ggg/io/grammar_file.hpp"
 #include "grammar_packing.hpp"
@@ -112,19 +114,38 @@ nlohmann::json growth_report_json(const GrowReport& r) {
 namespace {
 
 // Where the bytes of a packed file (CBOR) go: each part the CBOR bytes of its columns, and
-// "header" the rest (format, name, symbols, settings, the columns' names and lengths). A
+// "header" the rest (format, name, symbols, settings, the arrays that hold the columns). A
 // grammar is smaller than its graph where its parts, together, take less than positions
-// and edges do.
+// and edges do. A column is named by its section and its name in io_detail's lists.
 using Parts = std::vector<std::pair<const char*, std::vector<std::pair<const char*, const char*>>>>;
 
-nlohmann::json cbor_parts(const nlohmann::json& doc, const Parts& parts) {
+// The place of column `key` in `section` of a packed file, counted from the section's start.
+std::size_t column_place(const char* section, const char* key) {
+    auto find = [&](const auto& names, std::size_t skip) {
+        for (std::size_t c = 0; c < names.size(); ++c) {
+            if (std::string_view(names[c]) == key) return skip + c;
+        }
+        return SIZE_MAX; // not a column: never present
+    };
+    const std::string_view s = section;
+    if (s == "rules") return find(io_detail::rule_columns, 0);
+    if (s == "axiom") return find(io_detail::axiom_columns, 0);
+    if (s == "encoding") return find(io_detail::instance_columns, io_detail::encoding_settings.size());
+    return find(io_detail::graph_columns, 0);
+}
+
+// `placed`: the document lays its columns out by place (a grammar that does not pack, a
+// value off the packed units, is version 1 and all header).
+nlohmann::json cbor_parts(const nlohmann::json& doc, const Parts& parts, bool placed_columns = true) {
     nlohmann::json out = nlohmann::json::object();
     std::size_t counted = 0;
     for (const auto& [part, columns] : parts) {
         std::size_t bytes = 0;
         for (const auto& [section, key] : columns) {
-            const nlohmann::json* object = section ? (doc.contains(section) ? &doc.at(section) : nullptr) : &doc;
-            if (object && object->is_object() && object->contains(key)) bytes += nlohmann::json::to_cbor(object->at(key)).size();
+            if (!placed_columns || !doc.contains(section)) continue;
+            const nlohmann::json& placed = doc.at(section);
+            const std::size_t at = column_place(section, key);
+            if (placed.is_array() && at < placed.size() && !placed[at].empty()) bytes += nlohmann::json::to_cbor(placed[at]).size();
         }
         out[part] = bytes;
         counted += bytes;
@@ -139,7 +160,7 @@ nlohmann::json bytes_report(const GeometricGraph& input, const Grammar& g) {
                           {"encoded", grammar_bytes(g)},
                           {"original_cbor", graph_structure_bytes(input, quantum, true)},
                           {"encoded_cbor", grammar_bytes(g, true)}};
-    static const Parts graph_parts = {{"positions", {{nullptr, "x"}, {nullptr, "y"}}}, {"edges", {{nullptr, "edges"}}}};
+    static const Parts graph_parts = {{"positions", {{"graph", "x"}, {"graph", "y"}}}, {"edges", {{"graph", "edges"}}}};
     static const Parts grammar_parts = {
         {"rules", {{"rules", "uses"}, {"rules", "size_cm"}, {"rules", "vertices"}, {"rules", "edges"}, {"rules", "x"}, {"rules", "y"},
                    {"rules", "symbol"}, {"rules", "transform"}, {"rules", "embedding"}, {"rules", "points"}, {"rules", "edge_list"}}},
@@ -150,8 +171,9 @@ nlohmann::json bytes_report(const GeometricGraph& input, const Grammar& g) {
         {"links", {{"encoding", "neighbours"}, {"encoding", "embedding"}, {"encoding", "link_classes"}, {"encoding", "rule_points"},
                    {"encoding", "edge_classes"}}},
         {"residuals", {{"encoding", "residuals"}}}};
+    const nlohmann::json grammar_doc = grammar_to_json(g);
     out["parts_cbor"] = {{"original", cbor_parts(io_detail::pack_graph(input, quantum), graph_parts)},
-                         {"encoded", cbor_parts(grammar_to_json(g), grammar_parts)}};
+                         {"encoded", cbor_parts(grammar_doc, grammar_parts, grammar_doc.value("version", 0) == io_detail::packed_grammar_version)}};
     return out;
 }
 

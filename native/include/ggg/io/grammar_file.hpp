@@ -11,10 +11,11 @@
 namespace ggg {
 
 // Version 1: the readable form (rules and axiom as objects; a learned grammar's instances as
-// columns of decimals). Version 5: the packed form of a learned grammar (integers in fixed
-// units, docs/grammar-format.md), written as JSON text or, for a path ending in ".cbor", as
-// CBOR. The reader takes every version in either encoding, the older packed forms 2 to 4 too.
-inline constexpr int grammar_file_version = 5;
+// columns of decimals). Version 6: the packed form of a learned grammar (integers in fixed
+// units, in columns placed in arrays, docs/grammar-format.md), written as JSON text or, for a
+// path ending in ".cbor", as CBOR. The reader takes every version in either encoding, the
+// older packed forms 2 to 5 too.
+inline constexpr int grammar_file_version = 6;
 
 nlohmann::json grammar_to_json(const Grammar& grammar);
 // Throws GrammarError naming the place of the problem ("rules[0].vertices[2].symbol: unknown symbol 'Q'").
