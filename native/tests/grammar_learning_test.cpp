@@ -541,6 +541,12 @@ TEST(GrammarLearning, PackedEncodingsReadBackAndNameThePlaceOfDamage) {
     expect_error([](nlohmann::json& d) { test::packed_column(d, "encoding", "tolerance_m") = 1000; }, "encoding[2] (tolerance_m)");
     expect_error([](nlohmann::json& d) { test::packed_column(d, "encoding", "quantum_m") = "cm"; }, "encoding[3] (quantum_m)");
     expect_error([](nlohmann::json& d) { test::packed_column(d, "rules", "points")[0] = 7; }, "rules.points[0]");
+    // A value that would not fit once in the finest unit (10^4 times larger).
+    expect_error([](nlohmann::json& d) {
+        auto& points = test::packed_column(d, "rules", "points");
+        points[0] = 0;
+        points[1] = 1'000'000'000'000'000'000;
+    }, "rules.points[1]");
     expect_error([](nlohmann::json& d) { test::packed_column(d, "axiom", "frames")[0] = -1; }, "axiom.frames[0]");
     expect_error([](nlohmann::json& d) { test::packed_column(d, "axiom", "frames")[1] = -1; }, "axiom.frames");
     // Learned symbols are R1, R2, ...: implied. A symbol named otherwise is written.

@@ -620,7 +620,8 @@ json named_form(const Unpacker& r, const json& doc) {
         for (std::int64_t k = e; k < c.finest; ++k) step *= 10;
         json values = json::array();
         for (std::size_t i = 1; i < column.size(); ++i) {
-            const std::int64_t v = r.integer(column[i], where + "[" + std::to_string(i) + "]", -1'000'000'000'000'000, 1'000'000'000'000'000);
+            // Bounded so that the value in the finest unit (at most 10^4 times more) fits.
+            const std::int64_t v = r.integer(column[i], where + "[" + std::to_string(i) + "]", -100'000'000'000'000, 100'000'000'000'000);
             values.push_back(of_kind(c, i - 1) ? v * step : v);
         }
         section[c.name] = std::move(values);
