@@ -98,11 +98,14 @@ def test_a_damaged_grammar_does_not_decode(town, tmp_path):
     path = tmp_path / "town.grammar.json"
     grammar.write(str(path))
     doc = json.loads(path.read_text())
-    # The first nonterminal moved 10 km (positions are delta-coded quanta: the next stays).
-    at = doc["axiom"]["nonterminals"][0]
-    far = round(10_000 / doc["encoding"]["quantum_m"])
-    doc["axiom"]["x"][at] += far
-    doc["axiom"]["x"][at + 1] -= far
+    # The first nonterminal moved 10 km (positions are delta-coded quanta of 1 cm: the next
+    # stays). The packed form places the axiom's columns: x first, nonterminals third.
+    assert doc["version"] == 6 and doc["encoding"][3] == -26  # the quantum's code: 0.01 m
+    x, nonterminals = doc["axiom"][0], doc["axiom"][2]
+    at = nonterminals[0]
+    far = 1_000_000
+    x[at] += far
+    x[at + 1] -= far
     damaged = ggg.parse_grammar(json.dumps(doc), "damaged")
     with pytest.raises(ggg.GrammarError, match="does not decode to what it encodes"):
         ggg.decode(damaged)
