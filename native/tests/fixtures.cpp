@@ -141,23 +141,11 @@ std::size_t shared_places(const GeometricGraph& g, double quantum) {
 }
 
 nlohmann::json& packed_column(nlohmann::json& doc, const std::string& section, const std::string& name) {
-    auto place = [&](const auto& names, std::size_t skip) -> std::size_t {
-        for (std::size_t c = 0; c < names.size(); ++c) {
-            if (name == names[c]) return skip + c;
-        }
-        throw std::invalid_argument("no packed column " + section + "." + name);
-    };
-    std::size_t at = 0;
-    if (section == "rules") at = place(io_detail::rule_columns, 0);
-    else if (section == "axiom") at = place(io_detail::axiom_columns, 0);
-    else if (section == "encoding") {
-        at = std::find(io_detail::encoding_settings.begin(), io_detail::encoding_settings.end(), name) != io_detail::encoding_settings.end()
-                 ? place(io_detail::encoding_settings, 0)
-                 : place(io_detail::instance_columns, io_detail::encoding_settings.size());
-    } else throw std::invalid_argument("no packed section " + section);
+    const auto at = io_detail::column_place(section, name);
+    if (!at || section == "graph") throw std::invalid_argument("no packed column " + section + "." + name);
     nlohmann::json& placed = doc.at(section);
-    while (placed.size() <= at) placed.push_back(nlohmann::json::array());
-    return placed[at];
+    while (placed.size() <= *at) placed.push_back(nlohmann::json::array());
+    return placed[*at];
 }
 
 } // namespace ggg::test

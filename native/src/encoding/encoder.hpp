@@ -131,18 +131,23 @@ private:
     // Makes a rule of `group` from those of its occurrences that are free, fit its shape and
     // sit in consistent frames, and records an instance for each; nothing when too few are
     // left (or, paying, when they no longer pay).
-    // With `gain_only`, nothing is encoded: returns what the group would save as it is
-    // priced now (strict_gain_), or nothing where too few of its copies would be kept.
-    std::optional<double> encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
-                                       std::vector<std::int32_t>& level_instances, LevelReport& lr, bool gain_only = false);
+    // With `price_only`, nothing is encoded: returns what the group would save both ways
+    // (packed_gain), or nothing where too few of its copies would be kept. Encoding, it
+    // returns nothing.
+    struct GroupGains {
+        double paper;  // its copies against what they replace
+        double strict; // also less its rule and its residuals
+    };
+    std::optional<GroupGains> encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
+                                           std::vector<std::int32_t>& level_instances, LevelReport& lr, bool price_only = false);
 
     // What encoding these occurrences as instances of one rule saves, in bytes of the packed
     // grammar file against the packed graph (docs/learning.md#size): the positions and
     // inside edges they no longer store, less each instance's frame, residuals (lossless)
-    // and the extra bytes of its embedding, less the rule itself.
+    // and the extra bytes of its embedding, less the rule itself; not `strict`, the copies
+    // only (neither the rule nor the residuals).
     double packed_gain(const Isogroup& group, const std::vector<std::vector<VertexId>>& occs, const std::vector<Similarity2>& fits,
-                       const std::vector<Frame>& transforms,
-                       const Adjacency& adj) const;
+                       const std::vector<Frame>& transforms, const Adjacency& adj, bool strict) const;
 
     // The largest distance from a street vertex of the occurrence (labelled as the pattern)
     // to where `fit` puts the pattern's vertex: the vertex's paper-mode decoding error.

@@ -151,12 +151,8 @@ bool Encoder::encode_level(int level, bool seeded, Take take) {
         LevelReport scratch;
         for (const AnalyzedIsogroup& ag : analysis.isogroups) {
             if (!eligible(ag)) continue;
-            strict_gain_ = false;
-            const auto paper = encode_group(ag.group, take, level, adj, used, level_instances, scratch, true);
-            strict_gain_ = true;
-            if (!paper || *paper <= 0) continue;
-            const auto strict = encode_group(ag.group, take, level, adj, used, level_instances, scratch, true);
-            if (strict && *strict > cheapest_gain) cheapest = &ag, cheapest_gain = *strict;
+            const auto gains = encode_group(ag.group, take, level, adj, used, level_instances, scratch, true);
+            if (gains && gains->paper > 0 && gains->strict > cheapest_gain) cheapest = &ag, cheapest_gain = gains->strict;
         }
         if (cheapest) {
             strict_gain_ = false;

@@ -66,8 +66,8 @@ EdgeId edge_between(const GeometricGraph&, const Adjacency& adj, VertexId u, Ver
 
 } // namespace
 
-std::optional<double> Encoder::encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
-                                           std::vector<std::int32_t>& level_instances, LevelReport& lr, bool gain_only) {
+std::optional<Encoder::GroupGains> Encoder::encode_group(const Isogroup& group, Take take, int level, const Adjacency& adj, std::vector<char>& used,
+                                                        std::vector<std::int32_t>& level_instances, LevelReport& lr, bool price_only) {
     const std::size_t k = group.order();
     const std::size_t min_count = take == Take::once ? 1 : options_.analysis.detection.min_count;
     std::vector<std::vector<VertexId>> occs;
@@ -131,8 +131,8 @@ std::optional<double> Encoder::encode_group(const Isogroup& group, Take take, in
     consistent_frames(group, occs, fits, transforms);
     lr.frame_rejected += before - occs.size();
     if (occs.size() < min_count) return std::nullopt;
-    const double gain = packed_gain(group, occs, fits, transforms, adj);
-    if (gain_only) return gain;
+    if (price_only) return GroupGains{packed_gain(group, occs, fits, transforms, adj, false), packed_gain(group, occs, fits, transforms, adj, true)};
+    const double gain = packed_gain(group, occs, fits, transforms, adj, strict_gain_);
     if (take == Take::paying && gain <= 0) return std::nullopt;
 
     const int rep = representative_vertex(graph_, adj, occs);
@@ -201,11 +201,11 @@ std::optional<double> Encoder::encode_group(const Isogroup& group, Take take, in
     ++lr.rules;
     rules_.push_back(std::move(draft));
     rotations_.push_back(static_cast<int>(std::max<std::size_t>(1, symmetries.size())));
-    return gain;
+    return std::nullopt;
 }
 
 double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector<VertexId>>& occs, const std::vector<Similarity2>& fits,
-                            const std::vector<Frame>& transforms, const Adjacency& adj) const {
+                            const std::vector<Frame>& transforms, const Adjacency& adj, bool strict) const {
     const Pattern& pattern = group.pattern;
     const std::size_t k = pattern.positions.size();
     // An instance at the top: its nonterminal's position and symbol, its frame (scale and
@@ -240,7 +240,7 @@ double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector
                 const Vec2 shift = (frame.t - placed) * inverse;
                 saved -= cbor_bytes(std::llround(shift.x())) + cbor_bytes(std::llround(shift.y()));
             }
-            if (options_.lossless && strict_gain_) {
+            if (options_.lossless && strict) {
                 const Vec2 r = (graph_.positions[v] - fits[c].apply(pattern.positions[j])) * inverse;
                 saved -= cbor_bytes(std::llround(r.x())) + cbor_bytes(std::llround(r.y()));
             }
@@ -256,7 +256,7 @@ double Encoder::packed_gain(const Isogroup& group, const std::vector<std::vector
     for (const Symbol s : pattern.symbols) nonterminals += s != 0;
     const double rule_bytes = 13.0 * static_cast<double>(k) + 6.0 * static_cast<double>(nonterminals) +
                               3.0 * static_cast<double>(pattern.edges.size()) + 20.0;
-    return gain - (strict_gain_ ? rule_bytes : 0.0);
+    return gain - (strict ? rule_bytes : 0.0);
 }
 
 double Encoder::worst_street_misfit(const Pattern& pattern, const Similarity2& fit, const std::vector<VertexId>& occ) const {

@@ -42,6 +42,21 @@ int cbor_bytes(std::int64_t k) {
     return a < 24 ? 1 : a < 256 ? 2 : a < 65536 ? 3 : a < 4294967296ULL ? 5 : 9;
 }
 
+std::optional<std::size_t> column_place(std::string_view section, std::string_view name) {
+    auto find = [&](const auto& names, std::size_t skip) -> std::optional<std::size_t> {
+        for (std::size_t c = 0; c < names.size(); ++c) {
+            if (name == names[c]) return skip + c;
+        }
+        return std::nullopt;
+    };
+    if (section == "rules") return find(rule_columns, 0);
+    if (section == "axiom") return find(axiom_columns, 0);
+    if (section == "graph") return find(graph_columns, 0);
+    if (section != "encoding") return std::nullopt;
+    if (const auto setting = find(encoding_settings, 0)) return setting;
+    return find(instance_columns, encoding_settings.size());
+}
+
 void read_grammar_header(const JsonReader<GrammarError>& r, const json& doc, Grammar& g) {
     if (const json* n = r.optional(doc, "name")) {
         if (!n->is_string()) r.fail("name", "must be a string");

@@ -9,6 +9,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -31,6 +32,9 @@ inline constexpr std::array<const char*, 5> encoding_settings = {"mode", "levels
 inline constexpr std::array<const char*, 9> instance_columns = {"correction", "shift", "residuals", "tolerance", "rule_points", "embedding", "link_classes", "edge_classes", "neighbours"};
 // The packed graph (what a grammar's size is set beside) in the same layout.
 inline constexpr std::array<const char*, 3> graph_columns = {"x", "y", "edges"};
+// The place of column or setting `name` in `section` ("rules", "axiom", "encoding", or
+// "graph" of the packed graph), or nothing where the section has no such column.
+std::optional<std::size_t> column_place(std::string_view section, std::string_view name);
 
 // The packed document of a learned grammar, or nothing when the grammar holds something the
 // packed form has no place for (a value off its unit, a nonterminal without its instance):

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <string_view>
 
 #include "ggg/io/grammar_file.hpp"
 #include "grammar_packing.hpp"
@@ -119,21 +117,6 @@ namespace {
 // and edges do. A column is named by its section and its name in io_detail's lists.
 using Parts = std::vector<std::pair<const char*, std::vector<std::pair<const char*, const char*>>>>;
 
-// The place of column `key` in `section` of a packed file, counted from the section's start.
-std::size_t column_place(const char* section, const char* key) {
-    auto find = [&](const auto& names, std::size_t skip) {
-        for (std::size_t c = 0; c < names.size(); ++c) {
-            if (std::string_view(names[c]) == key) return skip + c;
-        }
-        return SIZE_MAX; // not a column: never present
-    };
-    const std::string_view s = section;
-    if (s == "rules") return find(io_detail::rule_columns, 0);
-    if (s == "axiom") return find(io_detail::axiom_columns, 0);
-    if (s == "encoding") return find(io_detail::instance_columns, io_detail::encoding_settings.size());
-    return find(io_detail::graph_columns, 0);
-}
-
 // `placed`: the document lays its columns out by place (a grammar that does not pack, a
 // value off the packed units, is version 1 and all header).
 nlohmann::json cbor_parts(const nlohmann::json& doc, const Parts& parts, bool placed_columns = true) {
@@ -144,8 +127,8 @@ nlohmann::json cbor_parts(const nlohmann::json& doc, const Parts& parts, bool pl
         for (const auto& [section, key] : columns) {
             if (!placed_columns || !doc.contains(section)) continue;
             const nlohmann::json& placed = doc.at(section);
-            const std::size_t at = column_place(section, key);
-            if (placed.is_array() && at < placed.size() && !placed[at].empty()) bytes += nlohmann::json::to_cbor(placed[at]).size();
+            const auto at = io_detail::column_place(section, key);
+            if (at && placed.is_array() && *at < placed.size() && !placed[*at].empty()) bytes += nlohmann::json::to_cbor(placed[*at]).size();
         }
         out[part] = bytes;
         counted += bytes;
