@@ -129,6 +129,15 @@ def inner_dead_end_share(graph, hole):
     return float(np.mean(degree[inner] == 1)) if inner.any() else float("nan")
 
 
+def four_way_share(graph, where):
+    """Of the junctions (three streets or more) of `graph` where `where` (a mask of its
+    vertices) is True, the share where four streets meet; degrees in the whole graph, so that
+    the cut does not turn a crossing at the edge of an area into a T-junction."""
+    degree = np.bincount(np.asarray(graph.edges).ravel(), minlength=graph.vertex_count)
+    junctions = int(np.sum(where & (degree >= 3)))
+    return float(np.sum(where & (degree == 4))) / junctions if junctions else float("nan")
+
+
 def crosses_hole(graph, hole):
     """Per edge, whether the hole takes any of it."""
     offsets, points = graph.edge_geometry()
@@ -345,6 +354,8 @@ def measure(city, seeds):
     grammar, stats = ggg.learn(rest)
     learn_seconds = time.perf_counter() - t
     floor = ggg.compare(ring, real)
+    real_four_way = four_way_share(graph, in_hole)
+    ring_four_way = four_way_share(graph, in_outer & ~in_hole)
     corners = np.array([[hole[0], hole[1]], [hole[2], hole[1]], [hole[2], hole[3]], [hole[0], hole[3]]])
     rest_degree = np.bincount(np.asarray(rest.edges).ravel(), minlength=rest.vertex_count)
     rows = []
@@ -370,6 +381,8 @@ def measure(city, seeds):
             "city": city, "seed": seed, "fill": len(new_edges) / max(1, real.edge_count),
             "continued": continued, "joined": joined,
             "stars": c["a"]["star_share"], "real_stars": c["b"]["star_share"],
+            "four_way": four_way_share(grown, inside(grown.positions, *hole) & (np.arange(grown.vertex_count) >= rest.vertex_count)),
+            "real_four_way": real_four_way, "ring_four_way": ring_four_way,
             "right": c["a"]["right_angle_share"], "real_right": c["b"]["right_angle_share"],
             "ring_right": floor["a"]["right_angle_share"],
             "dead": inner_dead_end_share(part, hole), "real_dead": inner_dead_end_share(real, hole),
@@ -404,16 +417,16 @@ def main():
         all_rows += rows
         for r in rows:
             print("{city} seed {seed}: fill {fill:.2f}, continued {continued:.2f}, joined {joined:.2f}, stars {stars:.3f} "
-                  "(real {real_stars:.3f}), right angles {right:.2f} (real {real_right:.2f}, ring {ring_right:.2f}), dead ends {dead:.2f} "
+                  "(real {real_stars:.3f}), 4-way {four_way:.2f} (real {real_four_way:.2f}, ring {ring_four_way:.2f}), right angles {right:.2f} (real {real_right:.2f}, ring {ring_right:.2f}), dead ends {dead:.2f} "
                   "(real {real_dead:.2f}), degree 2 {deg2:.2f} (real {real_deg2:.2f}), through {through:.2f} "
                   "(real {real_through:.2f}), circuity {circuity} (real {real_circuity}), compare mean {mean:.3f} "
                   "(ring {ring_mean:.3f}, {ratio:.1f}x), crossings {crossings}; learn {learn_s:.1f} s, grow {grow_s:.1f} s"
                   .format(ratio=r["mean"] / max(r["ring_mean"], 1e-9), **r), flush=True)
     if args.markdown:
         print("\n| city | kind | fill | severed streets continued | grown vertices joined | star junctions (real) "
-              "| right angles (real; ring) | dead ends (real) | degree 2 (real) | through streets (real) | circuity (real) "
+              "| 4-way junctions (real; ring) | right angles (real; ring) | dead ends (real) | degree 2 (real) | through streets (real) | circuity (real) "
               "| compare mean / ring's | crossings |")
-        print("|---|---|" + "---:|" * 11)
+        print("|---|---|" + "---:|" * 12)
         for city in args.cities.split(","):
             rows = [r for r in all_rows if r["city"] == city]
 
@@ -421,9 +434,10 @@ def main():
                 values = [r[key] for r in rows if r[key] is not None and not math.isnan(r[key])]
                 return sum(values) / len(values) if values else float("nan")
 
-            print("| {} | {} | {} | {} | {} | {} ({}) | {} ({}; {}) | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {}× | {} |".format(
+            print("| {} | {} | {} | {} | {} | {} ({}) | {} ({}; {}) | {} ({}; {}) | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {}× | {} |".format(
                 city.split(".")[0], CITIES.get(city, ""), fmt(mean("fill")), fmt(mean("continued")), fmt(mean("joined")),
-                fmt(mean("stars"), 3), fmt(mean("real_stars"), 3), fmt(mean("right")), fmt(mean("real_right")), fmt(mean("ring_right")),
+                fmt(mean("stars"), 3), fmt(mean("real_stars"), 3),
+                fmt(mean("four_way")), fmt(mean("real_four_way")), fmt(mean("ring_four_way")), fmt(mean("right")), fmt(mean("real_right")), fmt(mean("ring_right")),
                 fmt(mean("dead")), fmt(mean("real_dead")), fmt(mean("deg2")), fmt(mean("real_deg2")),
                 fmt(mean("through")), fmt(mean("real_through")), fmt(mean("circuity")), fmt(mean("real_circuity")),
                 fmt(mean("mean") / max(mean("ring_mean"), 1e-9), 1), sum(r["crossings"] for r in rows)))

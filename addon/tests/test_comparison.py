@@ -18,11 +18,11 @@ FAKE = {
     "a": {"blocks": 193, "circuity": 1.37, "dead_end_share": 0.094, "degree2_share": 0.069, "edges": 510,
           "junctions": 267, "mean_degree": 3.2, "median_block_area_m2": 7600.4, "median_edge_length_m": 85.3,
           "orientation_entropy": 2.52, "orientation_order": 0.73, "right_angle_share": 0.82, "star_share": 0.0063,
-          "through_share": 0.97, "vertices": 319},
+          "crossing_share": 0.41, "through_share": 0.97, "vertices": 319},
     "b": {"blocks": 0, "circuity": None, "dead_end_share": 0.158, "degree2_share": 0.032, "edges": 1286,
           "junctions": 154, "mean_degree": 3.01, "median_block_area_m2": 12345.6, "median_edge_length_m": 80.7,
           "orientation_entropy": 2.76, "orientation_order": 0.61, "right_angle_share": 0.76, "star_share": 0.0,
-          "through_share": 0.95, "vertices": 190},
+          "crossing_share": 0.236, "through_share": 0.95, "vertices": 190},
     "distances": {"block_area": 0.41, "degree": 0.128, "edge_length": 0.207, "junction_angle": 0.125,
                   "mean": 0.2116, "orientation": 0.104},
 }
@@ -34,6 +34,7 @@ def test_rows_of_a_made_up_result():
     by_key = {key: (label, a, b) for key, label, a, b, _meaning in rows}
     assert by_key["dead_end_share"] == ("Dead ends", "9.4%", "15.8%")
     assert by_key["star_share"] == ("Star junctions (5+)", "0.6%", "0.0%")
+    assert by_key["crossing_share"] == ("Crossings (4 streets)", "41.0%", "23.6%")
     assert by_key["right_angle_share"][1:] == ("82.0%", "76.0%")
     assert by_key["circuity"] == ("Circuity", "1.37", comparison.NOTHING)
     assert by_key["median_edge_length_m"][1:] == ("85.3 m", "80.7 m")
@@ -53,7 +54,7 @@ def test_summary_of_a_made_up_result():
     line = comparison.summary("grown", "town", FAKE)
     assert line == ("Compared grown with town: mean distance 0.21 (degree 0.13, edge length 0.21, orientation 0.10, "
                     "block area 0.41); junction angles 0.12; dead ends 9.4% / 15.8%, degree 2 6.9% / 3.2%, "
-                    "star junctions 0.6% / 0.0%, right angles 82.0% / 76.0%, through streets 97.0% / 95.0%; "
+                    "star junctions 0.6% / 0.0%, crossings 41.0% / 23.6%, right angles 82.0% / 76.0%, through streets 97.0% / 95.0%; "
                     "circuity 1.37 / \u2013")
 
 
@@ -114,6 +115,8 @@ def test_rows_and_summary_of_a_real_comparison(ggg):
                                                 for side in "ab")
     assert by_key["dead_end_share"] == ("0.0%", "0.0%")
     assert by_key["star_share"] == ("0.0%", "0.0%")
+    # 4 x 4 vertices: 4 crossings of 12 junctions; 5 x 5: 9 of 21.
+    assert by_key["crossing_share"] == ("33.3%", "42.9%")
     for key, _label, a_text, b_text, _meaning in rows:
         assert a_text == comparison.value_text(result["a"][key], dict((r[0], r[2]) for r in comparison.MEASURES)[key])
         assert b_text != comparison.NOTHING or result["b"][key] is None

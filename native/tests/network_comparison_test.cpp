@@ -98,6 +98,7 @@ TEST(NetworkComparison, StructureOfAGridAndAStar) {
     EXPECT_DOUBLE_EQ(summary["dead_end_share"].get<double>(), 0.0);
     EXPECT_DOUBLE_EQ(summary["degree2_share"].get<double>(), 4.0 / 25.0);
     EXPECT_DOUBLE_EQ(summary["star_share"].get<double>(), 0.0);
+    EXPECT_DOUBLE_EQ(summary["crossing_share"].get<double>(), 9.0 / 21.0);
 
     // Six streets from one point, 60 degrees apart, then a seventh bent 20 degrees off a line:
     // a star, and each street is straight through with the one opposite.
@@ -113,6 +114,7 @@ TEST(NetworkComparison, StructureOfAGridAndAStar) {
     EXPECT_DOUBLE_EQ(t.through_share, 1.0);
     EXPECT_DOUBLE_EQ(t.right_angle_share, 0.0);
     EXPECT_NEAR(compare_networks(star, star)["a"]["star_share"].get<double>(), 1.0 / 7.0, 1e-12);
+    EXPECT_DOUBLE_EQ(compare_networks(star, star)["a"]["crossing_share"].get<double>(), 0.0); // a star is no crossing
     EXPECT_NEAR(compare_networks(star, star)["a"]["dead_end_share"].get<double>(), 6.0 / 7.0, 1e-12);
     // Spokes meet only at the centre: every path from spoke to spoke goes through it.
     EXPECT_GT(t.circuity, 1.1);

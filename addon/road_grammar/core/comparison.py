@@ -39,6 +39,8 @@ MEASURES = (
      "where a street bends or changes class, not a junction; many of them in grown streets are fragments"),
     ("star_share", "Star junctions (5+)", "share", "star junctions",
      "rare in real cities (squares, roundabouts drawn as one point); hard to drive through"),
+    ("crossing_share", "Crossings (4 streets)", "share", "crossings",
+     "how much of a grid the streets form: most junctions of a grid are crossings, a network grown street by street into T-junctions has few"),
     ("right_angle_share", "Right angles (90\u00b0 \u00b1 15\u00b0)", "share", "right angles",
      "how regular the crossings are"),
     ("through_share", "Through streets", "share", "through streets",

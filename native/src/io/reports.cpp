@@ -219,13 +219,18 @@ nlohmann::json summary(const StreetStatistics& s) {
     const auto bins = static_cast<int>(s.degree_histogram.size());
     double mean_degree = 0.0;
     for (int d = 0; d < bins; ++d) mean_degree += d * s.degree_histogram[static_cast<std::size_t>(d)];
-    double stars = 0.0;
+    double stars = 0.0, junctions = 0.0;
     for (int d = 5; d < bins; ++d) stars += s.degree_histogram[static_cast<std::size_t>(d)];
+    for (int d = 3; d < bins; ++d) junctions += s.degree_histogram[static_cast<std::size_t>(d)];
+    // Crossings among the junctions (the share of four-way intersections): a grid's are most
+    // of them, a network grown street by street into T-junctions has few.
+    const double crossings = bins > 4 && junctions > 0 ? s.degree_histogram[4] / junctions : 0.0;
     return {{"vertices", s.vertices},
             {"junctions", s.junctions},
             {"dead_end_share", s.degree_histogram[1]},
             {"degree2_share", s.degree_histogram[2]},
             {"star_share", stars},
+            {"crossing_share", crossings},
             {"right_angle_share", s.right_angle_share},
             {"through_share", s.through_share},
             {"circuity", std::isfinite(s.circuity) ? nlohmann::json(s.circuity) : nlohmann::json(nullptr)},

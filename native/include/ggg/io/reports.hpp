@@ -62,8 +62,9 @@ std::size_t grammar_bytes(const Grammar& grammar, bool cbor = false);
 // `ggg compare`'s output: {"distances": {degree, edge_length, orientation, block_area, mean,
 // junction_angle}, "a": summary, "b": summary} with vertices, edges, mean degree, median edge
 // length, orientation entropy and order, blocks and median block area, and the structure:
-// junctions, dead_end_share, degree2_share, star_share (of the vertices), right_angle_share
-// (of the junction angles), through_share (of the junctions) and circuity of each.
+// junctions, dead_end_share, degree2_share, star_share (of the vertices), crossing_share (of
+// the junctions: four streets), right_angle_share (of the junction angles), through_share (of
+// the junctions) and circuity of each.
 nlohmann::json compare_networks(const GeometricGraph& a, const GeometricGraph& b);
 
 } // namespace ggg
