@@ -138,6 +138,23 @@ def four_way_share(graph, where):
     return float(np.sum(where & (degree == 4))) / junctions if junctions else float("nan")
 
 
+# Main roads as a planner reads a map: motorways to tertiary roads (their links not counted).
+MAIN_ROADS = ("motorway", "trunk", "primary", "secondary", "tertiary")
+
+
+def main_road_share(graph, keep_edge):
+    """Of the street length of `graph`'s edges where `keep_edge` is True, the share on main roads
+    (MAIN_ROADS), along their polylines."""
+    offsets, points = graph.edge_geometry()
+    pieces = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    ends = np.cumsum(np.concatenate([[0.0], pieces]))
+    lengths = ends[offsets[1:] - 1] - ends[offsets[:-1]]
+    names = ggg.highway_classes()
+    main = np.isin(np.asarray(graph.edge_highway), [names.index(c) for c in MAIN_ROADS])
+    total = lengths[keep_edge].sum()
+    return float(lengths[keep_edge & main].sum() / total) if total > 0 else float("nan")
+
+
 def crosses_hole(graph, hole):
     """Per edge, whether the hole takes any of it."""
     offsets, points = graph.edge_geometry()
@@ -356,6 +373,8 @@ def measure(city, seeds):
     floor = ggg.compare(ring, real)
     real_four_way = four_way_share(graph, in_hole)
     ring_four_way = four_way_share(graph, in_outer & ~in_hole)
+    real_main = main_road_share(graph, taken)
+    ring_main = main_road_share(graph, (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~taken)
     corners = np.array([[hole[0], hole[1]], [hole[2], hole[1]], [hole[2], hole[3]], [hole[0], hole[3]]])
     rest_degree = np.bincount(np.asarray(rest.edges).ravel(), minlength=rest.vertex_count)
     rows = []
@@ -383,6 +402,8 @@ def measure(city, seeds):
             "stars": c["a"]["star_share"], "real_stars": c["b"]["star_share"],
             "four_way": four_way_share(grown, inside(grown.positions, *hole) & (np.arange(grown.vertex_count) >= rest.vertex_count)),
             "real_four_way": real_four_way, "ring_four_way": ring_four_way,
+            "main": main_road_share(grown, np.arange(grown.edge_count) >= rest.edge_count), "real_main": real_main,
+            "ring_main": ring_main,
             "right": c["a"]["right_angle_share"], "real_right": c["b"]["right_angle_share"],
             "ring_right": floor["a"]["right_angle_share"],
             "dead": inner_dead_end_share(part, hole), "real_dead": inner_dead_end_share(real, hole),
@@ -418,15 +439,15 @@ def main():
         for r in rows:
             print("{city} seed {seed}: fill {fill:.2f}, continued {continued:.2f}, joined {joined:.2f}, stars {stars:.3f} "
                   "(real {real_stars:.3f}), 4-way {four_way:.2f} (real {real_four_way:.2f}, ring {ring_four_way:.2f}), right angles {right:.2f} (real {real_right:.2f}, ring {ring_right:.2f}), dead ends {dead:.2f} "
-                  "(real {real_dead:.2f}), degree 2 {deg2:.2f} (real {real_deg2:.2f}), through {through:.2f} "
+                  "(real {real_dead:.2f}), main roads {main:.2f} (real {real_main:.2f}, ring {ring_main:.2f}), degree 2 {deg2:.2f} (real {real_deg2:.2f}), through {through:.2f} "
                   "(real {real_through:.2f}), circuity {circuity} (real {real_circuity}), compare mean {mean:.3f} "
                   "(ring {ring_mean:.3f}, {ratio:.1f}x), crossings {crossings}; learn {learn_s:.1f} s, grow {grow_s:.1f} s"
                   .format(ratio=r["mean"] / max(r["ring_mean"], 1e-9), **r), flush=True)
     if args.markdown:
         print("\n| city | kind | fill | severed streets continued | grown vertices joined | star junctions (real) "
-              "| 4-way junctions (real; ring) | right angles (real; ring) | dead ends (real) | degree 2 (real) | through streets (real) | circuity (real) "
+              "| 4-way junctions (real; ring) | right angles (real; ring) | dead ends (real) | main roads (real; ring) | degree 2 (real) | through streets (real) | circuity (real) "
               "| compare mean / ring's | crossings |")
-        print("|---|---|" + "---:|" * 12)
+        print("|---|---|" + "---:|" * 13)
         for city in args.cities.split(","):
             rows = [r for r in all_rows if r["city"] == city]
 
@@ -434,11 +455,11 @@ def main():
                 values = [r[key] for r in rows if r[key] is not None and not math.isnan(r[key])]
                 return sum(values) / len(values) if values else float("nan")
 
-            print("| {} | {} | {} | {} | {} | {} ({}) | {} ({}; {}) | {} ({}; {}) | {} ({}) | {} ({}) | {} ({}) | {} ({}) | {}× | {} |".format(
+            print("| {} | {} | {} | {} | {} | {} ({}) | {} ({}; {}) | {} ({}; {}) | {} ({}) | {} ({}; {}) | {} ({}) | {} ({}) | {} ({}) | {}× | {} |".format(
                 city.split(".")[0], CITIES.get(city, ""), fmt(mean("fill")), fmt(mean("continued")), fmt(mean("joined")),
                 fmt(mean("stars"), 3), fmt(mean("real_stars"), 3),
                 fmt(mean("four_way")), fmt(mean("real_four_way")), fmt(mean("ring_four_way")), fmt(mean("right")), fmt(mean("real_right")), fmt(mean("ring_right")),
-                fmt(mean("dead")), fmt(mean("real_dead")), fmt(mean("deg2")), fmt(mean("real_deg2")),
+                fmt(mean("dead")), fmt(mean("real_dead")), fmt(mean("main")), fmt(mean("real_main")), fmt(mean("ring_main")), fmt(mean("deg2")), fmt(mean("real_deg2")),
                 fmt(mean("through")), fmt(mean("real_through")), fmt(mean("circuity")), fmt(mean("real_circuity")),
                 fmt(mean("mean") / max(mean("ring_mean"), 1e-9), 1), sum(r["crossings"] for r in rows)))
         print("\nTargets: " + TARGETS)
