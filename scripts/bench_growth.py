@@ -66,9 +66,9 @@ def porto_hole():
     seconds = time.perf_counter() - t
     real = int(np.count_nonzero(in_hole[edges[:, 0]] | in_hole[edges[:, 1]]))
     print("porto 1 km2 hole (all highways, {:,} vertices): learn {:.1f} s; grow {:.2f} s: {:,} streets traced from {:,} "
-          "at the border, {} rules, {:,} new streets (the hole had {:,})".format(
+          "at the border, {} rules, {:,} new streets (the hole had {:,}); {} offset crossings joined, {} streets thinned".format(
               rest.vertex_count, learned, seconds, report["traced_streets"], report["traced_seeds"],
-              report["placements"], report["added_edges"], real))
+              report["placements"], report["added_edges"], real, report["traced_joined_offsets"], report["thinned_streets"]))
 
 
 def style(seeds):

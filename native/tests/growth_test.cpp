@@ -694,6 +694,69 @@ TEST(Growth, CrossingsAreOffsetAsOftenAsInTheCity) {
 }
 
 
+// The share of the vertices from `first_vertex` on, of any street, that reach a vertex before
+// it (the city) along the streets.
+static double joined_share(const GeometricGraph& g, std::size_t first_vertex) {
+    std::vector<std::vector<VertexId>> next(g.vertex_count());
+    for (const auto& [a, b] : g.edges) {
+        next[static_cast<std::size_t>(a)].push_back(b);
+        next[static_cast<std::size_t>(b)].push_back(a);
+    }
+    std::vector<char> reached(g.vertex_count(), 0);
+    std::vector<VertexId> stack;
+    for (std::size_t v = 0; v < std::min(first_vertex, g.vertex_count()); ++v) reached[v] = 1, stack.push_back(static_cast<VertexId>(v));
+    while (!stack.empty()) {
+        const VertexId v = stack.back();
+        stack.pop_back();
+        for (const VertexId w : next[static_cast<std::size_t>(v)]) {
+            if (!reached[static_cast<std::size_t>(w)]) reached[static_cast<std::size_t>(w)] = 1, stack.push_back(w);
+        }
+    }
+    std::size_t grown = 0, joined = 0;
+    for (std::size_t v = first_vertex; v < g.vertex_count(); ++v) {
+        if (next[v].empty()) continue;
+        ++grown;
+        joined += reached[v];
+    }
+    return grown ? static_cast<double>(joined) / static_cast<double>(grown) : 1.0;
+}
+
+// Streets traced one at a time each end where they meet another, and where many arrive from
+// both sides of one street the junctions crowd: Washington's grid grows half again the
+// junctions of its real hole. There the streets between two grown T-junctions in the most
+// crowded places are taken out (each with another way round near it), and what is left stays
+// one network: every grown vertex joined to the city, nothing crossing. Where tracing grows
+// more offset crossings than the city has (Baltimore, whose crossings are seldom offset), the
+// nearest pairs of T's become crossings, and the grown hole has no larger a share of them.
+TEST(Growth, CrowdedJunctionsAreThinnedAndOffsetPairsJoined) {
+    GGG_REQUIRE_CORPUS();
+    for (const std::string file : {"washington_dc.osm.pbf", "baltimore_us.osm.pbf"}) {
+        const GeometricGraph city = read_graph(test::shared_osm_dir() + "/" + file);
+        const double city_share = count_crossings(city, 0, 35.0).offset_share();
+        const auto [base, hole] = cut_infill_hole(city);
+        const Grammar grammar = learn_grammar(base).grammar;
+        std::size_t thinned = 0, joined = 0;
+        CrossingCounts grown_counts;
+        for (const std::uint64_t seed : {1u, 2u, 3u}) {
+            GrowOptions o;
+            o.seed = seed;
+            GrowReport report;
+            const GeometricGraph grown = grow_region(base, grammar, hole, o, &report);
+            thinned += report.thinned_streets;
+            joined += report.traced_joined_offsets;
+            const CrossingCounts counts = count_crossings(grown, base.vertex_count(), 35.0);
+            grown_counts.crossings += counts.crossings;
+            grown_counts.offsets += counts.offsets;
+            EXPECT_GE(joined_share(grown, base.vertex_count()), 0.98) << file << " seed " << seed;
+            EXPECT_EQ(test::polyline_crossings(grown, base.edge_count()), 0u) << file << " seed " << seed;
+            for (std::size_t e = 0; e < base.edge_count(); ++e) ASSERT_EQ(grown.edges[e], base.edges[e]);
+        }
+        if (file == "washington_dc.osm.pbf") EXPECT_GE(thinned, 9u) << file;
+        else EXPECT_GT(joined, 0u) << file;
+        EXPECT_LE(grown_counts.offset_share(), city_share + 0.03) << file << " (the city's " << city_share << ")";
+    }
+}
+
 // Junction islands: small triangles of three junctions (under 1,500 m2), each counted once,
 // per junction (three streets or more) at `first_vertex` or later.
 static double island_share(const GeometricGraph& g, std::size_t first_vertex) {

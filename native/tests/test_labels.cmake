@@ -16,6 +16,7 @@ set(ggg_slow_tests
   IsogroupDetection.PrunedFindsTheLeadingPatternsOfTheFullAnalysisOnBarcelona
   StreetHierarchy.MainRoadsOfColumbusMeetAcrossAGrownStrip
   Growth.AGrownRegionHasTheStyleOfItsCity
+  Growth.CrowdedJunctionsAreThinnedAndOffsetPairsJoined
   GrammarLearning.DeterministicWhateverTheThreadCount)
 
 # (list(FIND) rather than if(IN_LIST): ctest reads this file with the policies of CMake 2.x.)

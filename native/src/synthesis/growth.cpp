@@ -116,6 +116,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_avenues = traced.avenues;
         report.traced_crossed = traced.crossed;
         report.traced_empty_ground = traced.empty_ground;
+        report.traced_joined_offsets = traced.joined_offsets;
         report.traced_offset_crossings = traced.offset_crossings;
         report.traced_junction_islands = traced.junction_islands;
         street_density_ = traced.density;
@@ -150,6 +151,7 @@ GeometricGraph Grower::run(GrowReport& report) {
     report.filled = !report.stopped_by_budget;
     close_dead_ends();
     prune_stubs();
+    report.thinned_streets = growth_detail::thin_junctions(g_, base_vertices_, base_edges_, region_, junction_density_, density_radius_);
     report.dissolved_vertices = growth_detail::dissolve_bends(g_, base_vertices_, base_edges_);
     report.removed_crossing_streets = growth_detail::remove_crossing_streets(g_, base_vertices_, base_edges_);
     if (o_.continue_hierarchy) {

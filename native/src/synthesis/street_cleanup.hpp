@@ -26,6 +26,15 @@ GeometricGraph rebuilt(const GeometricGraph& g, const std::vector<char>& drop_ve
 // that crosses another street is taken out again, the newer of two grown ones. Returns how many.
 std::size_t remove_crossing_streets(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges);
 
+// Grown junctions in `region` thinned to the city's density (`junction_density` junctions a
+// square metre, measured around the region): where more are grown, rungs are taken out (a
+// minor grown street between two grown T-junctions, the stem of both, with another way between
+// its ends near by), in the most crowded places first (the most junctions within `radius`
+// metres, none where there are no more than the city's), the shortest there first. Their
+// T's become bends, which dissolve_bends then dissolves. Returns how many went.
+std::size_t thin_junctions(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const std::vector<Vec2>& region,
+                           double junction_density, double radius);
+
 // A grown vertex where two grown streets of one class meet and nothing else is no junction:
 // the two become one street through it (a bend of its polyline). Returns how many went.
 std::size_t dissolve_bends(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges);

@@ -162,23 +162,7 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
         if (at_a_border(pa) || (std::isfinite(radius) && distance_to_ring(region_, pa) > radius)) continue;
         const double length = city.edge_length(static_cast<EdgeId>(e));
         if (length >= crowd_ * typical_ || length < 1e-3) continue;
-        // At each end: of its two other streets, the one most nearly opposite goes on straight
-        // (within 30 degrees) and the other leaves to one side; seen from either end, opposite
-        // sides have the same sign.
-        int sides[2] = {0, 0};
-        for (int k = 0; k < 2; ++k) {
-            const VertexId v = k == 0 ? a : b;
-            const Vec2 pv = city.positions[static_cast<std::size_t>(v)];
-            const Vec2 along = (leaving(city, static_cast<EdgeId>(e), v) - pv).normalized();
-            std::vector<Vec2> others;
-            for (const EdgeId f : at[static_cast<std::size_t>(v)]) {
-                if (f != static_cast<EdgeId>(e)) others.push_back((leaving(city, f, v) - pv).normalized());
-            }
-            const std::size_t on = along.dot(others[0]) < along.dot(others[1]) ? 0 : 1;
-            if (along.dot(others[on]) > -std::cos(M_PI / 6)) break;
-            sides[k] = cross(along, others[1 - on]) > 0 ? 1 : -1;
-        }
-        if (sides[0] != 0 && sides[0] == sides[1]) offsets_.push_back(length);
+        if (offset_link(city, at, static_cast<EdgeId>(e))) offsets_.push_back(length);
     }
     offset_share_ = offsets_.empty() ? 0.0 : static_cast<double>(offsets_.size()) / static_cast<double>(offsets_.size() + crossings);
     // Junction islands: at a T-junction, a short street from the side street to the street it

@@ -42,6 +42,17 @@ bool Tracer::denser_than_city(const std::vector<Vec2>& line, double slack) const
     return static_cast<double>(junctions) > slack * junction_density_ * M_PI * r * r;
 }
 
+void Tracer::move_end(EdgeId e, VertexId v, VertexId to, std::vector<Vec2> line) {
+    const bool from_v = g_.edges[static_cast<std::size_t>(e)][0] == v;
+    if (from_v) std::reverse(line.begin(), line.end());
+    std::copy(line.begin(), line.end(), g_.geometry.begin() + static_cast<long>(g_.geometry_offsets[static_cast<std::size_t>(e)]));
+    g_.edges[static_cast<std::size_t>(e)][from_v ? 0 : 1] = to;
+    auto& at_v = adjacency_[static_cast<std::size_t>(v)];
+    at_v.erase(std::find(at_v.begin(), at_v.end(), e));
+    adjacency_[static_cast<std::size_t>(to)].push_back(e);
+    index_edge(e);
+}
+
 bool Tracer::adjacent(VertexId v, VertexId w) const {
     for (const EdgeId e : adjacency_[static_cast<std::size_t>(v)]) {
         if (other_end(e, v) == w) return true;

@@ -18,6 +18,7 @@
 
 #include "ggg/graph/geometric_graph.hpp"
 #include "ggg/graph/road_class.hpp"
+#include "ggg/graph/plane_geometry.hpp"
 #include "ggg/graph/spatial_index.hpp"
 #include "ggg/progress.hpp"
 #include "street_tracing.hpp"
@@ -123,6 +124,31 @@ inline Vec2 leaving(const GeometricGraph& g, EdgeId e, VertexId at) {
     return g.edges[static_cast<std::size_t>(e)][0] == at ? p[1] : p[n - 2];
 }
 
+// Whether the street e is the piece between the two T's of an offset crossing: both its ends
+// T-junctions (`at`: the streets at each vertex) where of the two other streets one runs on
+// straight (within 30 degrees) and the other leaves to one side, the two to opposite sides of
+// the street. (Its length is the caller's to judge.)
+inline bool offset_link(const GeometricGraph& g, const std::vector<std::vector<EdgeId>>& at, EdgeId e) {
+    const auto [a, b] = g.edges[static_cast<std::size_t>(e)];
+    if (a == b || at[static_cast<std::size_t>(a)].size() != 3 || at[static_cast<std::size_t>(b)].size() != 3) return false;
+    int sides[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+        const VertexId v = k == 0 ? a : b;
+        const Vec2 pv = g.positions[static_cast<std::size_t>(v)];
+        const Vec2 along = (leaving(g, e, v) - pv).normalized();
+        std::vector<Vec2> others;
+        for (const EdgeId f : at[static_cast<std::size_t>(v)]) {
+            if (f != e) others.push_back((leaving(g, f, v) - pv).normalized());
+        }
+        if (others.size() != 2) return false;
+        const std::size_t on = along.dot(others[0]) < along.dot(others[1]) ? 0 : 1;
+        if (along.dot(others[on]) > -std::cos(M_PI / 6)) return false;
+        sides[k] = cross(along, others[1 - on]) > 0 ? 1 : -1;
+    }
+    // Seen from either end, opposite sides of the street have the same sign.
+    return sides[0] == sides[1];
+}
+
 // Traces the streets into one region (trace_streets).
 class Tracer {
 public:
@@ -177,6 +203,10 @@ private:
         if (g_.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
         return line;
     }
+
+    // The end at v of street e moved to the vertex `to`, its polyline now `line` (read from its
+    // far end, the same number of points, the last at `to`).
+    void move_end(EdgeId e, VertexId v, VertexId to, std::vector<Vec2> line);
 
     // Whether a street joins v and w.
     bool adjacent(VertexId v, VertexId w) const;
@@ -360,6 +390,11 @@ private:
     // crosses, where it crosses nothing there. Two T's a few metres apart are the grain of
     // Porto or Monaco; a grid (Oakland) has none and keeps its crossings.
     void offset_crossings();
+
+    // The two T's at the ends of the offset link `link` made one crossing: one of the side
+    // streets (not a main road, nor one of the base) moved to end at the other T, where it then
+    // crosses nothing and meets no street at less than min_angle_. False where neither fits.
+    bool join_offset(EdgeId link);
 
     // Junction islands, as often as the city's T's with the same corner on the same kind of
     // street have them (island_rate_): at a grown T-junction, a short street from the side street to the street
