@@ -298,9 +298,7 @@ std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::
     std::vector<Street> streets;
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         if (replaced_edge[e]) continue;
-        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
-        streets.push_back({g.edges[e][0], g.edges[e][1], g.edge_attributes(static_cast<EdgeId>(e)),
-                           std::vector<Vec2>(p, p + g.geometry_size(static_cast<EdgeId>(e)))});
+        streets.push_back(street_of(g, static_cast<EdgeId>(e)));
     }
     streets.insert(streets.end(), std::make_move_iterator(added.begin()), std::make_move_iterator(added.end()));
     std::vector<char> drop(g.vertex_count(), 0);

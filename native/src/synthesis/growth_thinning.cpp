@@ -28,13 +28,7 @@ std::size_t thin_junctions(GeometricGraph& g, std::size_t base_vertices, std::si
                            double junction_density, double radius) {
     if (junction_density <= 0.0 || radius <= 0.0 || region.size() < 3) return 0;
     const std::size_t n = g.vertex_count();
-    std::vector<std::vector<EdgeId>> at(n);
-    for (std::size_t e = 0; e < g.edge_count(); ++e) {
-        const auto [a, b] = g.edges[e];
-        if (a == b) continue;
-        at[static_cast<std::size_t>(a)].push_back(static_cast<EdgeId>(e));
-        at[static_cast<std::size_t>(b)].push_back(static_cast<EdgeId>(e));
-    }
+    const std::vector<std::vector<EdgeId>> at = tracing::streets_at(g);
     auto other = [&](EdgeId e, VertexId v) {
         const auto [a, b] = g.edges[static_cast<std::size_t>(e)];
         return a == v ? b : a;
@@ -141,9 +135,7 @@ std::size_t thin_junctions(GeometricGraph& g, std::size_t base_vertices, std::si
     std::vector<Street> streets;
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         if (dropped[e]) continue;
-        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
-        streets.push_back({g.edges[e][0], g.edges[e][1], g.edge_attributes(static_cast<EdgeId>(e)),
-                           std::vector<Vec2>(p, p + g.geometry_size(static_cast<EdgeId>(e)))});
+        streets.push_back(street_of(g, static_cast<EdgeId>(e)));
     }
     g = rebuilt(g, std::vector<char>(n, 0), streets);
     return thinned;

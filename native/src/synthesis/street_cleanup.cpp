@@ -14,6 +14,12 @@ using namespace spatial; // bg, bgi, Point, Box, point, RTree, VertexEntry, Edge
 
 // The graph again with the vertices not dropped (the base first, unchanged; grown ids shift
 // down) and these streets, given in the old vertex ids.
+Street street_of(const GeometricGraph& g, EdgeId e) {
+    const Vec2* p = g.geometry_begin(e);
+    return {g.edges[static_cast<std::size_t>(e)][0], g.edges[static_cast<std::size_t>(e)][1], g.edge_attributes(e),
+            std::vector<Vec2>(p, p + g.geometry_size(e))};
+}
+
 GeometricGraph rebuilt(const GeometricGraph& g, const std::vector<char>& drop_vertex, const std::vector<Street>& streets) {
     GeometricGraph kept;
     kept.origin = g.origin;
@@ -95,9 +101,7 @@ std::size_t remove_crossing_streets(GeometricGraph& g, std::size_t base_vertices
         if (drop_edge[e]) continue;
         ++degree[static_cast<std::size_t>(g.edges[e][0])];
         ++degree[static_cast<std::size_t>(g.edges[e][1])];
-        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
-        streets.push_back({g.edges[e][0], g.edges[e][1], g.edge_attributes(static_cast<EdgeId>(e)),
-                           std::vector<Vec2>(p, p + g.geometry_size(static_cast<EdgeId>(e)))});
+        streets.push_back(street_of(g, static_cast<EdgeId>(e)));
     }
     std::vector<char> drop_vertex(g.vertex_count(), 0);
     for (std::size_t v = base_vertices; v < g.vertex_count(); ++v) drop_vertex[v] = degree[v] == 0;
@@ -184,10 +188,8 @@ std::size_t dissolve_bends(GeometricGraph& g, std::size_t base_vertices, std::si
     // What is left is rings of bends only: kept as they are.
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
         if (used[e]) continue;
-        const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
         for (const VertexId end : g.edges[e]) bend[static_cast<std::size_t>(end)] = 2;
-        streets.push_back({g.edges[e][0], g.edges[e][1], g.edge_attributes(static_cast<EdgeId>(e)),
-                           std::vector<Vec2>(p, p + g.geometry_size(static_cast<EdgeId>(e)))});
+        streets.push_back(street_of(g, static_cast<EdgeId>(e)));
     }
     std::vector<char> drop(n, 0);
     std::size_t dropped = 0;

@@ -18,6 +18,9 @@ struct Street {
     std::vector<Vec2> polyline;
 };
 
+// Street e of g as it is.
+Street street_of(const GeometricGraph& g, EdgeId e);
+
 // The graph again with the vertices not dropped (the base first, unchanged; grown ids shift
 // down) and these streets, given in the old vertex ids.
 GeometricGraph rebuilt(const GeometricGraph& g, const std::vector<char>& drop_vertex, const std::vector<Street>& streets);

@@ -232,25 +232,8 @@ bool Tracer::open_empty_ground() {
     return !opened.empty();
 }
 
-bool Tracer::join_offset(EdgeId link) {
+bool Tracer::join_offset(EdgeId link, const std::array<EdgeId, 2>& sides) {
     const auto ends = g_.edges[static_cast<std::size_t>(link)];
-    // At each end, its side street: of its two streets besides the link, the one that does not
-    // run on.
-    std::array<EdgeId, 2> sides{-1, -1};
-    for (std::size_t k = 0; k < 2; ++k) {
-        const VertexId u = ends[k];
-        const Vec2 pu = g_.positions[static_cast<std::size_t>(u)];
-        const Vec2 along = (leaving(g_, link, u) - pu).normalized();
-        std::array<EdgeId, 2> others{-1, -1};
-        std::size_t n = 0;
-        for (const EdgeId f : adjacency_[static_cast<std::size_t>(u)]) {
-            if (f != link && n < 2) others[n++] = f;
-        }
-        if (n != 2) return false;
-        const double d0 = along.dot((leaving(g_, others[0], u) - pu).normalized());
-        const double d1 = along.dot((leaving(g_, others[1], u) - pu).normalized());
-        sides[k] = d0 < d1 ? others[1] : others[0];
-    }
     // The longer side street moved first: bent to end the link's length along, it turns less.
     std::array<std::size_t, 2> order{0, 1};
     if (g_.edge_length(sides[1]) > g_.edge_length(sides[0])) std::swap(order[0], order[1]);
@@ -281,7 +264,7 @@ void Tracer::offset_crossings() {
         const auto [a, b] = g_.edges[e];
         if (static_cast<std::size_t>(a) < base_vertices_ || static_cast<std::size_t>(b) < base_vertices_) continue;
         const double length = g_.edge_length(static_cast<EdgeId>(e));
-        if (length < crowd_ * typical_ && offset_link(g_, adjacency_, static_cast<EdgeId>(e))) links.emplace_back(length, static_cast<EdgeId>(e));
+        if (length < crowd_ * typical_ && offset_sides(g_, adjacency_, static_cast<EdgeId>(e))) links.emplace_back(length, static_cast<EdgeId>(e));
     }
     // Of the crossings and offset crossings grown, as many offset as in the city: where more
     // grew (two streets traced to one street from either side, each ending where it met it),
@@ -292,7 +275,9 @@ void Tracer::offset_crossings() {
     std::size_t offset = links.size();
     for (const auto& [length, link] : links) {
         if (static_cast<double>(offset) <= offset_share_ * all + 0.5) break;
-        if (offset_link(g_, adjacency_, link) && join_offset(link)) {
+        // (Each checked again: a join before it may have changed its T's.)
+        const auto sides = offset_sides(g_, adjacency_, link);
+        if (sides && join_offset(link, *sides)) {
             --offset;
             ++report_.joined_offsets;
         }

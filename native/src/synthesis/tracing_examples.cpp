@@ -15,13 +15,7 @@ namespace ggg::growth_detail::tracing {
 void Tracer::learn_examples(const GeometricGraph& city, double radius) {
     const std::size_t n = city.vertex_count();
     if (city.edge_count() == 0) return;
-    std::vector<std::vector<EdgeId>> at(n);
-    for (std::size_t e = 0; e < city.edge_count(); ++e) {
-        const auto [a, b] = city.edges[e];
-        if (a == b) continue;
-        at[static_cast<std::size_t>(a)].push_back(static_cast<EdgeId>(e));
-        at[static_cast<std::size_t>(b)].push_back(static_cast<EdgeId>(e));
-    }
+    const std::vector<std::vector<EdgeId>> at = streets_at(city);
     // The city's streets from junction to junction (or dead end), through the vertices where
     // only two of its edges meet: many maps split a street wherever one of its tags changes,
     // and the spacing of junctions, not of those splits, is what tracing keeps to.
@@ -162,7 +156,7 @@ void Tracer::learn_examples(const GeometricGraph& city, double radius) {
         if (at_a_border(pa) || (std::isfinite(radius) && distance_to_ring(region_, pa) > radius)) continue;
         const double length = city.edge_length(static_cast<EdgeId>(e));
         if (length >= crowd_ * typical_ || length < 1e-3) continue;
-        if (offset_link(city, at, static_cast<EdgeId>(e))) offsets_.push_back(length);
+        if (offset_sides(city, at, static_cast<EdgeId>(e))) offsets_.push_back(length);
     }
     offset_share_ = offsets_.empty() ? 0.0 : static_cast<double>(offsets_.size()) / static_cast<double>(offsets_.size() + crossings);
     // Junction islands: at a T-junction, a short street from the side street to the street it

@@ -124,29 +124,50 @@ inline Vec2 leaving(const GeometricGraph& g, EdgeId e, VertexId at) {
     return g.edges[static_cast<std::size_t>(e)][0] == at ? p[1] : p[n - 2];
 }
 
-// Whether the street e is the piece between the two T's of an offset crossing: both its ends
-// T-junctions (`at`: the streets at each vertex) where of the two other streets one runs on
-// straight (within 30 degrees) and the other leaves to one side, the two to opposite sides of
-// the street. (Its length is the caller's to judge.)
-inline bool offset_link(const GeometricGraph& g, const std::vector<std::vector<EdgeId>>& at, EdgeId e) {
+// The streets at each vertex of g (a street from a vertex to itself left out).
+inline std::vector<std::vector<EdgeId>> streets_at(const GeometricGraph& g) {
+    std::vector<std::vector<EdgeId>> at(g.vertex_count());
+    for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        const auto [a, b] = g.edges[e];
+        if (a == b) continue;
+        at[static_cast<std::size_t>(a)].push_back(static_cast<EdgeId>(e));
+        at[static_cast<std::size_t>(b)].push_back(static_cast<EdgeId>(e));
+    }
+    return at;
+}
+
+// Where the street e is the piece between the two T's of an offset crossing, their side
+// streets (at e's first end, then at its second): both its ends T-junctions (`at`: the streets
+// at each vertex) where of the two other streets one runs on straight (within 30 degrees) and
+// the other leaves to one side, the two to opposite sides of the street. (Its length is the
+// caller's to judge.)
+inline std::optional<std::array<EdgeId, 2>> offset_sides(const GeometricGraph& g, const std::vector<std::vector<EdgeId>>& at, EdgeId e) {
     const auto [a, b] = g.edges[static_cast<std::size_t>(e)];
-    if (a == b || at[static_cast<std::size_t>(a)].size() != 3 || at[static_cast<std::size_t>(b)].size() != 3) return false;
+    if (a == b || at[static_cast<std::size_t>(a)].size() != 3 || at[static_cast<std::size_t>(b)].size() != 3) return std::nullopt;
+    std::array<EdgeId, 2> side_streets{-1, -1};
     int sides[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
         const VertexId v = k == 0 ? a : b;
         const Vec2 pv = g.positions[static_cast<std::size_t>(v)];
         const Vec2 along = (leaving(g, e, v) - pv).normalized();
-        std::vector<Vec2> others;
+        std::array<EdgeId, 2> others{-1, -1};
+        std::array<Vec2, 2> out;
+        std::size_t n = 0;
         for (const EdgeId f : at[static_cast<std::size_t>(v)]) {
-            if (f != e) others.push_back((leaving(g, f, v) - pv).normalized());
+            if (f == e) continue;
+            if (n == 2) return std::nullopt;
+            others[n] = f;
+            out[n++] = (leaving(g, f, v) - pv).normalized();
         }
-        if (others.size() != 2) return false;
-        const std::size_t on = along.dot(others[0]) < along.dot(others[1]) ? 0 : 1;
-        if (along.dot(others[on]) > -std::cos(M_PI / 6)) return false;
-        sides[k] = cross(along, others[1 - on]) > 0 ? 1 : -1;
+        if (n != 2) return std::nullopt;
+        const std::size_t on = along.dot(out[0]) < along.dot(out[1]) ? 0 : 1;
+        if (along.dot(out[on]) > -std::cos(M_PI / 6)) return std::nullopt;
+        sides[k] = cross(along, out[1 - on]) > 0 ? 1 : -1;
+        side_streets[static_cast<std::size_t>(k)] = others[1 - on];
     }
     // Seen from either end, opposite sides of the street have the same sign.
-    return sides[0] == sides[1];
+    if (sides[0] != sides[1]) return std::nullopt;
+    return side_streets;
 }
 
 // Traces the streets into one region (trace_streets).
@@ -391,10 +412,11 @@ private:
     // Porto or Monaco; a grid (Oakland) has none and keeps its crossings.
     void offset_crossings();
 
-    // The two T's at the ends of the offset link `link` made one crossing: one of the side
-    // streets (not a main road, nor one of the base) moved to end at the other T, where it then
-    // crosses nothing and meets no street at less than min_angle_. False where neither fits.
-    bool join_offset(EdgeId link);
+    // The two T's at the ends of the offset link `link` made one crossing: one of their side
+    // streets `sides` (offset_sides; not a main road, nor one of the base) moved to end at the
+    // other T, where it then crosses nothing and meets no street at less than min_angle_.
+    // False where neither fits.
+    bool join_offset(EdgeId link, const std::array<EdgeId, 2>& sides);
 
     // Junction islands, as often as the city's T's with the same corner on the same kind of
     // street have them (island_rate_): at a grown T-junction, a short street from the side street to the street
