@@ -416,6 +416,7 @@ def measure(city, seeds):
             "shared_places": shared_places(grown) - shared_places(rest),
             "learn_s": learn_seconds, "grow_s": grow_seconds, "rules": stats["rules"],
             "crossed": report["traced_crossed"], "roundabouts": report["roundabouts"], "avenues": report["traced_avenues"], "empty_ground": report["traced_empty_ground"],
+            "squared": report["squared_junctions"],
         })
     return rows
 
@@ -441,7 +442,7 @@ def main():
                   "(real {real_stars:.3f}), 4-way {four_way:.2f} (real {real_four_way:.2f}, ring {ring_four_way:.2f}), right angles {right:.2f} (real {real_right:.2f}, ring {ring_right:.2f}), dead ends {dead:.2f} "
                   "(real {real_dead:.2f}), main roads {main:.2f} (real {real_main:.2f}, ring {ring_main:.2f}), degree 2 {deg2:.2f} (real {real_deg2:.2f}), through {through:.2f} "
                   "(real {real_through:.2f}), circuity {circuity} (real {real_circuity}), compare mean {mean:.3f} "
-                  "(ring {ring_mean:.3f}, {ratio:.1f}x), crossings {crossings}; learn {learn_s:.1f} s, grow {grow_s:.1f} s"
+                  "(ring {ring_mean:.3f}, {ratio:.2f}x), crossings {crossings}, T's squared {squared}; learn {learn_s:.1f} s, grow {grow_s:.1f} s"
                   .format(ratio=r["mean"] / max(r["ring_mean"], 1e-9), **r), flush=True)
     if args.markdown:
         print("\n| city | kind | fill | severed streets continued | grown vertices joined | star junctions (real) "

@@ -97,6 +97,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"roundabouts", r.roundabouts},
         {"cul_de_sacs", r.cul_de_sacs},
         {"dissolved_vertices", r.dissolved_vertices},
+        {"squared_junctions", r.squared_junctions},
         {"split_vertices", r.split_vertices},
         {"removed_crossing_streets", r.removed_crossing_streets},
         {"main_road_routes", r.main_road_routes},

@@ -153,6 +153,7 @@ GeometricGraph Grower::run(GrowReport& report) {
     prune_stubs();
     report.thinned_streets = growth_detail::thin_junctions(g_, base_vertices_, base_edges_, region_, junction_density_, density_radius_);
     report.dissolved_vertices = growth_detail::dissolve_bends(g_, base_vertices_, base_edges_);
+    report.squared_junctions = growth_detail::square_junctions(g_, base_vertices_, base_edges_, region_);
     report.removed_crossing_streets = growth_detail::remove_crossing_streets(g_, base_vertices_, base_edges_);
     if (o_.continue_hierarchy) {
         HierarchyOptions h_options;

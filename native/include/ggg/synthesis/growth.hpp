@@ -178,6 +178,7 @@ struct GrowReport {
     std::size_t pruned_stubs = 0;       // grown dead-end streets cut off at the end: the short ones, and longer ones while the grown streets end in the open more often than the city's
     std::size_t roundabouts = 0;        // grown junctions made roundabouts, as often as the city's junctions are ones
     std::size_t cul_de_sacs = 0;        // dead-end streets added into grown blocks, as many as the city's blocks of their size hold
+    std::size_t squared_junctions = 0;  // grown T-junctions a little askew slid along their street until square, as often as the city's are square
     std::size_t dissolved_vertices = 0; // grown vertices between two grown streets of one class (and nothing else), made bends of one street
     std::size_t split_vertices = 0;     // vertices added along grown streets, so that as many grown vertices are bends (two streets) as the city's around the region
     std::size_t removed_crossing_streets = 0; // grown streets taken out again because they crossed a street
