@@ -22,6 +22,7 @@ constexpr double kSquare = 15.0;       // off a right angle: square
 constexpr double kAskew = 35.0;        // up to this: askew, and squared where the city has fewer
 constexpr double kMostMove = 40.0;     // metres a junction may move along its bar
 constexpr double kClear = 5.0;         // metres it stays from every other vertex
+constexpr double kSharp = 30.0;        // degrees: a sharper corner is one growth does not make
 
 // The polyline of edge e, from v.
 std::vector<Vec2> line_from(const GeometricGraph& g, EdgeId e, VertexId v) {
@@ -130,12 +131,32 @@ std::size_t square_junctions(GeometricGraph& g, std::size_t base_vertices, std::
         const std::size_t at = g.edges[static_cast<std::size_t>(e)][0] == v ? first : first + g.geometry_size(e) - 1;
         g.geometry[at] = to;
     };
+    // The narrowest corner where the first piece of street e from v ends: between the streets
+    // at its far vertex (their first pieces, as growth's own checks read a corner), or, where
+    // it ends at a bend, between the piece and the next.
+    auto narrowest_beyond = [&](EdgeId e, VertexId v) {
+        const std::vector<Vec2> line = line_from(g, e, v);
+        if (line.size() > 2) return degrees_between(line[0] - line[1], line[2] - line[1]);
+        const auto [a, b] = g.edges[static_cast<std::size_t>(e)];
+        const VertexId w = a == v ? b : a;
+        double narrowest = 180.0;
+        const auto& there = arms[static_cast<std::size_t>(w)];
+        for (std::size_t x = 0; x < there.size(); ++x) {
+            for (std::size_t y = x + 1; y < there.size(); ++y) {
+                narrowest = std::min(narrowest, degrees_between(line_from(g, there[x], w)[1] - g.positions[static_cast<std::size_t>(w)],
+                                                                line_from(g, there[y], w)[1] - g.positions[static_cast<std::size_t>(w)]));
+            }
+        }
+        return narrowest;
+    };
     std::size_t squared = 0;
     for (const Candidate& c : candidates) {
         const auto total = static_cast<double>(grown_square + grown_askew);
         if (static_cast<double>(grown_askew) / total <= city_share) break;
         const Vec2 from = g.positions[static_cast<std::size_t>(c.v)];
         const auto& at = arms[static_cast<std::size_t>(c.v)];
+        std::array<double, 3> corners{};
+        for (std::size_t k = 0; k < 3; ++k) corners[k] = narrowest_beyond(at[k], c.v);
         // Moved, is it square, and do its streets' first pieces and itself keep clear of the
         // others (the indexes are of the graph as it was: what moved since, moved kMostMove at most)?
         g.positions[static_cast<std::size_t>(c.v)] = c.to;
@@ -146,6 +167,8 @@ std::size_t square_junctions(GeometricGraph& g, std::size_t base_vertices, std::
             for (auto it = vertices.qbegin(bgi::intersects(spatial::around(c.to, kClear + kMostMove))); it != vertices.qend() && fits; ++it) {
                 fits = it->second == c.v || (g.positions[static_cast<std::size_t>(it->second)] - c.to).norm() > kClear;
             }
+            // No corner where its streets' first pieces end made sharp (turned under 30 degrees).
+            for (std::size_t k = 0; k < 3 && fits; ++k) fits = narrowest_beyond(at[k], c.v) >= std::min(corners[k], kSharp);
             for (std::size_t k = 0; k < 3 && fits; ++k) {
                 const std::vector<Vec2> line = line_from(g, at[k], c.v);
                 const Vec2 &p = line[0], &q = line[1];

@@ -42,7 +42,9 @@ std::size_t thin_junctions(GeometricGraph& g, std::size_t base_vertices, std::si
 // degrees off a right angle, slid along their bar until the stem meets it square, as long as
 // a larger share of the grown T's (square or askew) is askew than of the city's around it.
 // A junction moves 40 m at most (four fifths of its street's piece on that side), and only where
-// its streets then cross nothing and it comes within 5 m of no other vertex. Returns how many were squared.
+// its streets then cross nothing, make no corner sharper than 30 degrees where their first pieces
+// end (or sharper than it was), and it comes within 5 m of no other vertex. Returns how many
+// were squared.
 std::size_t square_junctions(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const std::vector<Vec2>& region);
 
 // A grown vertex where two grown streets of one class meet and nothing else is no junction:
