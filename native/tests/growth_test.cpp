@@ -721,6 +721,41 @@ static double joined_share(const GeometricGraph& g, std::size_t first_vertex) {
     return grown ? static_cast<double>(joined) / static_cast<double>(grown) : 1.0;
 }
 
+// A region that no street of the city reaches (here 500 m from the last corner of a grid turned
+// by 30 degrees) is grown from a rule placed in its middle. That district is joined to the city
+// by a street (before, it stood apart, joined to nothing), and it keeps to the grid of the
+// city's streets nearest the region (before, to the region's own axes).
+TEST(Growth, ADistrictNoStreetReachesIsJoinedToTheCityAndKeepsItsGrid) {
+    GridOptions grid;
+    grid.n = 16;
+    grid.jitter = 0.02;
+    grid.angle_rad = 30.0 * M_PI / 180.0;
+    const GeometricGraph city = make_grid(grid);
+    const Grammar grammar = learn_grammar(city).grammar;
+    const std::vector<Vec2> apart{{1800, 0}, {2800, 0}, {2800, 1000}, {1800, 1000}};
+    for (const std::uint64_t seed : {1u, 2u, 3u}) {
+        GrowOptions o;
+        o.seed = seed;
+        GrowReport report;
+        const GeometricGraph grown = grow_region(city, grammar, apart, o, &report);
+        EXPECT_EQ(report.traced_seeds, 0u) << "seed " << seed; // no street reached it
+        EXPECT_EQ(report.island_streets, 1u) << "seed " << seed;
+        EXPECT_GE(grown.vertex_count() - city.vertex_count(), 20u) << "seed " << seed;
+        EXPECT_EQ(joined_share(grown, city.vertex_count()), 1.0) << "seed " << seed;
+        EXPECT_EQ(test::polyline_crossings(grown, city.edge_count()), 0u) << "seed " << seed;
+        for (std::size_t e = 0; e < city.edge_count(); ++e) ASSERT_EQ(grown.edges[e], city.edges[e]);
+        // Along the grid: the grown street length within 10 degrees of its two directions.
+        double along = 0.0, all = 0.0;
+        for (std::size_t e = city.edge_count(); e < grown.edge_count(); ++e) {
+            const Vec2 d = grown.positions[static_cast<std::size_t>(grown.edges[e][1])] - grown.positions[static_cast<std::size_t>(grown.edges[e][0])];
+            const double off = std::remainder(std::atan2(d.y(), d.x()) - grid.angle_rad, M_PI / 2);
+            all += d.norm();
+            along += std::abs(off) <= 10.0 * M_PI / 180.0 ? d.norm() : 0.0;
+        }
+        EXPECT_GE(along / all, 0.8) << "seed " << seed;
+    }
+}
+
 // Streets traced one at a time each end where they meet another, and where many arrive from
 // both sides of one street the junctions crowd: Washington's grid grows half again the
 // junctions of its real hole. There the streets between two grown T-junctions in the most

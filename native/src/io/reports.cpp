@@ -100,6 +100,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"squared_junctions", r.squared_junctions},
         {"split_vertices", r.split_vertices},
         {"removed_crossing_streets", r.removed_crossing_streets},
+        {"island_streets", r.island_streets},
         {"main_road_routes", r.main_road_routes},
         {"raised_streets", r.raised_streets},
         {"main_road_connectors", r.main_road_connectors},

@@ -125,7 +125,17 @@ GeometricGraph Grower::run(GrowReport& report) {
         if (traced.streets > 0) reindex();
         if (g_.vertex_count() >= o_.max_vertices) report.stopped_by_budget = true;
     }
-    if (frontier_.empty()) seed_at_centre();
+    if (frontier_.empty()) {
+        // No street reaches the region: the city's streets nearest it say whether a grid runs
+        // there, and which way.
+        std::vector<std::pair<Vec2, Vec2>> near;
+        for (std::size_t e = 0; e < base_edges_; ++e) {
+            const Vec2 a = g_.positions[static_cast<std::size_t>(g_.edges[e][0])], b = g_.positions[static_cast<std::size_t>(g_.edges[e][1])];
+            if (near_region(a, size) || near_region(b, size)) near.emplace_back(a, b);
+        }
+        if (const auto [squareness, angle] = four_fold(near); squareness >= 0.7) grid_angle_ = angle;
+        seed_at_centre();
+    }
 
     std::size_t in_a_row = 0;
     while (!frontier_.empty()) {
@@ -168,6 +178,8 @@ GeometricGraph Grower::run(GrowReport& report) {
     }
     // The last guard again, for what the main roads laid across what was there.
     if (o_.continue_hierarchy) report.removed_crossing_streets += growth_detail::remove_crossing_streets(g_, base_vertices_, base_edges_);
+    // A district grown where no street of the base reached gets a street to the city.
+    report.island_streets = growth_detail::join_grown_islands(g_, base_vertices_, base_edges_, size);
     // Last, once the main roads are continued: roundabouts are mostly where they meet.
     if (o_.roundabouts) {
         report.roundabouts = growth_detail::make_roundabouts(g_, base_vertices_, base_edges_, region_, base_roundabouts, rng_);

@@ -94,10 +94,12 @@ void Grower::seed_at_centre() {
     const double angle = std::atan2(axis.y(), axis.x());
     for (std::size_t i : order) {
         const Prototype& p = prototypes_[i];
-        const Vec2 origin = centre_ - Similarity2::from(p.size_m, angle, Vec2::Zero()).apply_linear(p.centroid);
+        // A square rule turned onto the grid of the city's streets near the region, if they run on one.
+        const double turn = grid_angle_ && p.squareness >= 0.6 ? angle + wrap_quarter(*grid_angle_ - (p.square_angle + angle)) : angle;
+        const Vec2 origin = centre_ - Similarity2::from(p.size_m, turn, Vec2::Zero()).apply_linear(p.centroid);
         ++report_->attempts;
-        if (!place(p, Frame{p.size_m, angle * 180.0 / M_PI}, origin, -1)) continue;
-        if (p.squareness >= 0.6) grid_angle_ = wrap_quarter(p.square_angle + angle);
+        if (!place(p, Frame{p.size_m, turn * 180.0 / M_PI}, origin, -1)) continue;
+        if (p.squareness >= 0.6 && !grid_angle_) grid_angle_ = wrap_quarter(p.square_angle + turn);
         return;
     }
 }

@@ -38,6 +38,13 @@ std::size_t remove_crossing_streets(GeometricGraph& g, std::size_t base_vertices
 std::size_t thin_junctions(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const std::vector<Vec2>& region,
                            double junction_density, double radius);
 
+// Each piece of grown streets joined to no street of the base (a region no street of the base
+// reaches is grown from a rule placed in its middle) gets a street to the city: the shortest
+// one, no longer than `reach` metres, from one of its vertices to one of the city's, that
+// crosses no street and meets the streets at both its ends at 30 degrees or more. A base with
+// no streets has no city to join. Returns how many were joined.
+std::size_t join_grown_islands(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, double reach);
+
 // Grown T-junctions in `region` (of grown streets only) that are a little askew, 15 to 35
 // degrees off a right angle, slid along their bar until the stem meets it square, as long as
 // a larger share of the grown T's (square or askew) is askew than of the city's around it.

@@ -182,6 +182,7 @@ struct GrowReport {
     std::size_t dissolved_vertices = 0; // grown vertices between two grown streets of one class (and nothing else), made bends of one street
     std::size_t split_vertices = 0;     // vertices added along grown streets, so that as many grown vertices are bends (two streets) as the city's around the region
     std::size_t removed_crossing_streets = 0; // grown streets taken out again because they crossed a street
+    std::size_t island_streets = 0;     // streets laid from grown streets joined to nothing (no base street reached them) to the nearest street of the city
     std::size_t main_road_routes = 0;   // main roads joined through the grown streets
     std::size_t raised_streets = 0;     // grown streets on those routes, now of a main road's class
     std::size_t main_road_connectors = 0; // main roads joined by a straight new main road
