@@ -119,10 +119,7 @@ double circuity(const GeometricGraph& g, const Adjacency& adj) {
 } // namespace
 
 Vec2 leaving_direction(const GeometricGraph& g, EdgeId e, VertexId v) {
-    const Vec2* p = g.geometry_begin(e);
-    const std::size_t n = g.geometry_size(e);
-    std::vector<Vec2> line(p, p + n);
-    if (g.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
+    const std::vector<Vec2> line = polyline_from(g, e, v);
     const double reach = std::min(20.0, 0.5 * g.edge_length(e));
     if (const auto at = point_along(line, reach)) return *at - line[0];
     return line.back() - line.front();

@@ -31,10 +31,7 @@ VertexId root_of(std::vector<VertexId>& parent, VertexId v) {
 double narrowest_with(const GeometricGraph& g, const std::vector<EdgeId>& streets, VertexId v, const Vec2& d) {
     double narrowest = 180.0;
     for (const EdgeId e : streets) {
-        const Vec2* p = g.geometry_begin(e);
-        const std::size_t n = g.geometry_size(e);
-        const Vec2 first = g.edges[static_cast<std::size_t>(e)][0] == v ? p[1] - p[0] : p[n - 2] - p[n - 1];
-        const double c = std::clamp(first.normalized().dot(d.normalized()), -1.0, 1.0);
+        const double c = std::clamp(first_piece(g, e, v).normalized().dot(d.normalized()), -1.0, 1.0);
         narrowest = std::min(narrowest, std::acos(c) * 180.0 / M_PI);
     }
     return narrowest;
@@ -59,7 +56,7 @@ std::size_t join_grown_islands(GeometricGraph& g, std::size_t base_vertices, std
         if (city_root[static_cast<std::size_t>(r)]) city_points.push_back({spatial::point(g.positions[v]), static_cast<VertexId>(v)});
         else if (v >= base_vertices) islands[static_cast<std::size_t>(r)].push_back(static_cast<VertexId>(v));
     }
-    if (city_points.empty()) return 0;
+    if (city_points.empty() || std::all_of(islands.begin(), islands.end(), [](const auto& island) { return island.empty(); })) return 0;
     namespace bgi = spatial::bgi;
     const spatial::RTree<spatial::VertexEntry> city(city_points.begin(), city_points.end());
     std::vector<spatial::EdgeEntry> entries;

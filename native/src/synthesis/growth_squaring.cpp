@@ -24,14 +24,6 @@ constexpr double kMostMove = 40.0;     // metres a junction may move along its b
 constexpr double kClear = 5.0;         // metres it stays from every other vertex
 constexpr double kSharp = 30.0;        // degrees: a sharper corner is one growth does not make
 
-// The polyline of edge e, from v.
-std::vector<Vec2> line_from(const GeometricGraph& g, EdgeId e, VertexId v) {
-    const Vec2* p = g.geometry_begin(e);
-    std::vector<Vec2> line(p, p + g.geometry_size(e));
-    if (g.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
-    return line;
-}
-
 double degrees_between(const Vec2& a, const Vec2& b) {
     return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
 }
@@ -100,7 +92,7 @@ std::size_t square_junctions(GeometricGraph& g, std::size_t base_vertices, std::
         ++grown_askew;
         const auto& at = arms[v];
         std::array<std::vector<Vec2>, 3> lines;
-        for (std::size_t k = 0; k < 3; ++k) lines[k] = line_from(g, at[k], id);
+        for (std::size_t k = 0; k < 3; ++k) lines[k] = polyline_from(g, at[k], id);
         const std::size_t i = (t->stem + 1) % 3, j = (t->stem + 2) % 3;
         // Along the bar's own line where it is one straight piece through the junction (a base
         // street split there keeps its shape), else along its mean direction (grown streets only).
@@ -135,7 +127,7 @@ std::size_t square_junctions(GeometricGraph& g, std::size_t base_vertices, std::
     // at its far vertex (their first pieces, as growth's own checks read a corner), or, where
     // it ends at a bend, between the piece and the next.
     auto narrowest_beyond = [&](EdgeId e, VertexId v) {
-        const std::vector<Vec2> line = line_from(g, e, v);
+        const std::vector<Vec2> line = polyline_from(g, e, v);
         if (line.size() > 2) return degrees_between(line[0] - line[1], line[2] - line[1]);
         const auto [a, b] = g.edges[static_cast<std::size_t>(e)];
         const VertexId w = a == v ? b : a;
@@ -143,8 +135,7 @@ std::size_t square_junctions(GeometricGraph& g, std::size_t base_vertices, std::
         const auto& there = arms[static_cast<std::size_t>(w)];
         for (std::size_t x = 0; x < there.size(); ++x) {
             for (std::size_t y = x + 1; y < there.size(); ++y) {
-                narrowest = std::min(narrowest, degrees_between(line_from(g, there[x], w)[1] - g.positions[static_cast<std::size_t>(w)],
-                                                                line_from(g, there[y], w)[1] - g.positions[static_cast<std::size_t>(w)]));
+                narrowest = std::min(narrowest, degrees_between(first_piece(g, there[x], w), first_piece(g, there[y], w)));
             }
         }
         return narrowest;
@@ -170,7 +161,7 @@ std::size_t square_junctions(GeometricGraph& g, std::size_t base_vertices, std::
             // No corner where its streets' first pieces end made sharp (turned under 30 degrees).
             for (std::size_t k = 0; k < 3 && fits; ++k) fits = narrowest_beyond(at[k], c.v) >= std::min(corners[k], kSharp);
             for (std::size_t k = 0; k < 3 && fits; ++k) {
-                const std::vector<Vec2> line = line_from(g, at[k], c.v);
+                const std::vector<Vec2> line = polyline_from(g, at[k], c.v);
                 const Vec2 &p = line[0], &q = line[1];
                 for (auto it = streets.qbegin(bgi::intersects(spatial::around(p, q, kMostMove + 1.0))); it != streets.qend() && fits; ++it) {
                     const EdgeId f = it->second;

@@ -139,16 +139,10 @@ std::size_t dissolve_bends(GeometricGraph& g, std::size_t base_vertices, std::si
             pairs.insert(std::minmax(g.edges[e][0], g.edges[e][1]));
         }
     }
-    auto polyline_from = [&](EdgeId e, VertexId start) {
-        const Vec2* p = g.geometry_begin(e);
-        std::vector<Vec2> line(p, p + g.geometry_size(e));
-        if (g.edges[static_cast<std::size_t>(e)][0] != start) std::reverse(line.begin(), line.end());
-        return line;
-    };
     // Each chain of bends, walked from a junction at one end.
     auto walk = [&](VertexId start, EdgeId first) {
         std::vector<EdgeId> chain{first};
-        std::vector<Vec2> line = polyline_from(first, start);
+        std::vector<Vec2> line = polyline_from(g, first, start);
         VertexId v = other(first, start);
         used[static_cast<std::size_t>(first)] = 1;
         while (bend[static_cast<std::size_t>(v)] && v != start) {
@@ -156,7 +150,7 @@ std::size_t dissolve_bends(GeometricGraph& g, std::size_t base_vertices, std::si
             const EdgeId next = es[0] == chain.back() ? es[1] : es[0];
             if (used[static_cast<std::size_t>(next)]) break;
             used[static_cast<std::size_t>(next)] = 1;
-            const std::vector<Vec2> more = polyline_from(next, v);
+            const std::vector<Vec2> more = polyline_from(g, next, v);
             line.insert(line.end(), more.begin() + 1, more.end());
             chain.push_back(next);
             v = other(next, v);

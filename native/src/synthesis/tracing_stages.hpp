@@ -219,11 +219,7 @@ private:
     }
 
     // The polyline of edge e read from its end v.
-    std::vector<Vec2> line_from(EdgeId e, VertexId v) const {
-        std::vector<Vec2> line(g_.geometry_begin(e), g_.geometry_begin(e) + static_cast<long>(g_.geometry_size(e)));
-        if (g_.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
-        return line;
-    }
+    std::vector<Vec2> line_from(EdgeId e, VertexId v) const { return polyline_from(g_, e, v); }
 
     // The end at v of street e moved to the vertex `to`, its polyline now `line` (read from its
     // far end, the same number of points, the last at `to`).

@@ -54,6 +54,20 @@ inline double distance_to_ring(const std::vector<Vec2>& ring, const Vec2& p) {
     return best;
 }
 
+// The polyline of edge e of g read from its end v (its first point at v).
+inline std::vector<Vec2> polyline_from(const GeometricGraph& g, EdgeId e, VertexId v) {
+    std::vector<Vec2> line(g.geometry_begin(e), g.geometry_begin(e) + static_cast<std::ptrdiff_t>(g.geometry_size(e)));
+    if (g.edges[static_cast<std::size_t>(e)][0] != v) std::reverse(line.begin(), line.end());
+    return line;
+}
+
+// The first piece of edge e of g from its end v: from v to the next point of its polyline.
+inline Vec2 first_piece(const GeometricGraph& g, EdgeId e, VertexId v) {
+    const Vec2* p = g.geometry_begin(e);
+    const std::size_t n = g.geometry_size(e);
+    return g.edges[static_cast<std::size_t>(e)][0] == v ? p[1] - p[0] : p[n - 2] - p[n - 1];
+}
+
 // The point `distance` along the polyline from its first point; none beyond its end.
 inline std::optional<Vec2> point_along(const std::vector<Vec2>& line, double distance) {
     double walked = 0.0;
