@@ -756,6 +756,62 @@ TEST(Growth, ADistrictNoStreetReachesIsJoinedToTheCityAndKeepsItsGrid) {
     }
 }
 
+// A district drawn beside a city where no street reaches it: Barcelona's Eixample, 400 m off the
+// end of its streets; Washington, 300 m east of its extract, beside a few lone roads. Held to
+// the density of the ground beside it, rules placed in its middle stopped on crowding (51 and
+// 10 vertices: 0.45 and 0.01 of the density of the city's own central square kilometre). A
+// street along the city's grid now reaches it, the district is traced from it as a hole is
+// from the streets around, and it is held to the density of the city as a whole: half of that
+// density or more, on the city's grid, joined to it.
+TEST(Growth, ADistrictBesideTheCityIsReachedByAStreetAndGrownAsDenseAsTheCity) {
+    GGG_REQUIRE_CORPUS();
+    struct Case {
+        std::string file;
+        Vec2 lo, hi;       // the region
+        double grid_deg;   // the way the city's streets run
+        double along_grid; // the least share of the grown length along it
+    };
+    for (const Case& c : {Case{"barcelona_eixample.osm", {1900, 100}, {2900, 1100}, 45.0, 0.8},
+                          Case{"washington_dc.osm.pbf", {5733, -1100}, {8000, 1100}, 5.0, 0.5}}) {
+        const GeometricGraph city = read_graph(test::shared_osm_dir() + "/" + c.file);
+        const Grammar grammar = learn_grammar(city).grammar;
+        const std::vector<Vec2> beside{c.lo, {c.hi.x(), c.lo.y()}, c.hi, {c.lo.x(), c.hi.y()}};
+        // Metres of street from edge `first` on inside the box lo-hi, and those running within
+        // 10 degrees of the grid's two directions.
+        auto length_in = [&c](const GeometricGraph& g, std::size_t first, const Vec2& lo, const Vec2& hi) {
+            double all = 0.0, along = 0.0;
+            for (std::size_t e = first; e < g.edge_count(); ++e) {
+                const Vec2* q = g.geometry_begin(static_cast<EdgeId>(e));
+                for (std::size_t k = 0; k + 1 < g.geometry_size(static_cast<EdgeId>(e)); ++k) {
+                    const Vec2 mid = 0.5 * (q[k] + q[k + 1]), d = q[k + 1] - q[k];
+                    if (mid.x() < lo.x() || mid.y() < lo.y() || mid.x() > hi.x() || mid.y() > hi.y()) continue;
+                    all += d.norm();
+                    const double off = std::remainder(std::atan2(d.y(), d.x()) - c.grid_deg * M_PI / 180.0, M_PI / 2);
+                    if (std::abs(off) <= 10.0 * M_PI / 180.0) along += d.norm();
+                }
+            }
+            return std::pair{all, along};
+        };
+        // The city's own central square kilometre (extracts are projected around their centre).
+        const double city_density = length_in(city, 0, {-500, -500}, {500, 500}).first / 1e6;
+        ASSERT_GT(city_density, 0.01) << c.file;
+        const double area = (c.hi - c.lo).prod();
+        for (const std::uint64_t seed : {1u, 2u, 3u}) {
+            GrowOptions o;
+            o.seed = seed;
+            GrowReport report;
+            const GeometricGraph grown = grow_region(city, grammar, beside, o, &report);
+            EXPECT_EQ(report.traced_seeds, 1u) << c.file << " seed " << seed; // the street that reaches it
+            const auto [all, along] = length_in(grown, city.edge_count(), c.lo, c.hi);
+            EXPECT_GE(all / area, 0.5 * city_density) << c.file << " seed " << seed;
+            EXPECT_GE(along / all, c.along_grid) << c.file << " seed " << seed;
+            EXPECT_EQ(joined_share(grown, city.vertex_count()), 1.0) << c.file << " seed " << seed;
+            EXPECT_EQ(test::polyline_crossings(grown, city.edge_count()), 0u) << c.file << " seed " << seed;
+            for (std::size_t e = 0; e < city.edge_count(); ++e) ASSERT_EQ(grown.edges[e], city.edges[e]);
+        }
+    }
+}
+
 // Streets traced one at a time each end where they meet another, and where many arrive from
 // both sides of one street the junctions crowd: Washington's grid grows half again the
 // junctions of its real hole. There the streets between two grown T-junctions in the most

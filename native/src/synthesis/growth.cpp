@@ -95,6 +95,21 @@ GeometricGraph Grower::run(GrowReport& report) {
         if (squareness >= 0.7) grid_angle_ = angle; // the streets around run on a grid: keep it
         grid_around_ = squareness >= 0.5;
     }
+    std::optional<double> access_angle;
+    if (frontier_.empty()) {
+        // No street reaches the region: the city's streets nearest it say whether a grid runs
+        // there, and which way.
+        std::vector<std::pair<Vec2, Vec2>> near;
+        for (std::size_t e = 0; e < base_edges_; ++e) {
+            const Vec2 a = g_.positions[static_cast<std::size_t>(g_.edges[e][0])], b = g_.positions[static_cast<std::size_t>(g_.edges[e][1])];
+            if (near_region(a, size) || near_region(b, size)) near.emplace_back(a, b);
+        }
+        const auto [squareness, angle] = four_fold(near);
+        if (squareness >= 0.7) grid_angle_ = angle;
+        // The street that reaches the district runs the way most of them do (Washington's
+        // grid, its diagonal avenues aside, is square to 0.5 to 0.7).
+        if (squareness >= 0.5) access_angle = angle;
+    }
     if (o_.trace_streets) {
         // The streets that reach the region are traced on into it first, after the
         // junctions of the grammar's city (or, for a hand-written grammar, of the base).
@@ -105,6 +120,8 @@ GeometricGraph Grower::run(GrowReport& report) {
         tracing.usual_block_m2 = split_block_m2_;
         tracing.small_block_share = small_block_share_;
         tracing.grid_city = grid_city_ || grid_around_;
+        tracing.no_street_reaches = frontier_.empty();
+        tracing.grid_angle = access_angle;
         const GeometricGraph& style = grammar_.encoding.empty() ? base_copy_for_style() : style_city_;
         const growth_detail::TracingReport traced = growth_detail::trace_streets(g_, base_vertices_, style, region_, tracing, rng_, progress_);
         report.traced_seeds = traced.seeds;
@@ -125,17 +142,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         if (traced.streets > 0) reindex();
         if (g_.vertex_count() >= o_.max_vertices) report.stopped_by_budget = true;
     }
-    if (frontier_.empty()) {
-        // No street reaches the region: the city's streets nearest it say whether a grid runs
-        // there, and which way.
-        std::vector<std::pair<Vec2, Vec2>> near;
-        for (std::size_t e = 0; e < base_edges_; ++e) {
-            const Vec2 a = g_.positions[static_cast<std::size_t>(g_.edges[e][0])], b = g_.positions[static_cast<std::size_t>(g_.edges[e][1])];
-            if (near_region(a, size) || near_region(b, size)) near.emplace_back(a, b);
-        }
-        if (const auto [squareness, angle] = four_fold(near); squareness >= 0.7) grid_angle_ = angle;
-        seed_at_centre();
-    }
+    if (frontier_.empty() && report.traced_streets == 0) seed_at_centre();
 
     std::size_t in_a_row = 0;
     while (!frontier_.empty()) {

@@ -22,6 +22,7 @@ Tracer::Tracer(GeometricGraph& g, std::size_t base_vertices, const GeometricGrap
     // the grammar's city is the example where the base has too few of them.
     double size = 0.0;
     for (const Vec2& p : region_) size = std::max(size, (p - region_.front()).norm());
+    region_size_ = size;
     // The nearest streets first (the parts of a city differ), further out until there are
     // enough of them.
     for (double radius = 0.25 * size; radius <= 2.0 * size; radius *= 2) {
@@ -36,6 +37,9 @@ Tracer::Tracer(GeometricGraph& g, std::size_t base_vertices, const GeometricGrap
         learn_examples(city, std::numeric_limits<double>::infinity());
         measure_density(city, std::numeric_limits<double>::infinity());
         measure_empty_ground(city, std::numeric_limits<double>::infinity());
+    } else if (s_.no_street_reaches) {
+        measure_density(g_, std::numeric_limits<double>::infinity());
+        measure_empty_ground(g_, std::numeric_limits<double>::infinity());
     } else {
         // The density of the ground next to the region, which says best how dense the streets
         // it continues are (a city's parts differ: a port beside a grid of houses); further

@@ -12,6 +12,7 @@
 // roads are traced first, then the streets between them. No junction gets more than four
 // streets, and no street leaves the region except to join a street outside it.
 #include <cstddef>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -55,6 +56,13 @@ struct TracingSettings {
     // two perpendicular directions): only then are streets joined straight across the region
     // (join_across).
     bool grid_city = false;
+    // No street of the base reaches the region (a district drawn apart from the city): the
+    // ground beside it is the city's edge, sparser than any part of the city, so its streets
+    // are held to the density of the whole city instead.
+    bool no_street_reaches = false;
+    // The grid the city's streets around the region run on (radians, modulo 90 degrees), if
+    // they do: the street that reaches such a district runs along it.
+    std::optional<double> grid_angle;
 };
 
 // How tracing, and the rules placed after it, hold the streets they add to the city's density

@@ -82,6 +82,9 @@ void Tracer::seed() {
         if (!best) continue;
         seeds.emplace_back(best->first, side, best->second);
     }
+    if (seeds.empty() && s_.no_street_reaches) {
+        if (auto access = access_seed(region_size_)) seeds.emplace_back(access->first, false, access->second);
+    }
     // The streets that go on first, then new side streets, each as far from the seeds before
     // it and from the base's junctions as the city's junctions are apart: a street along the
     // region, split by its map into many short edges, gets side streets at the city's spacing,
@@ -119,6 +122,60 @@ void Tracer::seed() {
         queue_.push(s);
         ++report_.seeds;
     }
+}
+
+std::optional<std::pair<double, Street>> Tracer::access_seed(double reach) const {
+    // The city's vertices nearest the region first; a handful is enough (the nearest that
+    // reach it straight are few streets apart).
+    std::vector<std::pair<double, VertexId>> near;
+    for (std::size_t v = 0; v < base_vertices_; ++v) {
+        const auto id = static_cast<VertexId>(v);
+        if (degree(id) == 0 || degree(id) >= 4) continue;
+        const double away = distance_to_ring(region_, g_.positions[v]);
+        if (away <= reach && !inside(region_, g_.positions[v])) near.emplace_back(away, id);
+    }
+    std::sort(near.begin(), near.end());
+    if (near.size() > 64) near.resize(64);
+    for (const auto& [away, id] : near) {
+        const Vec2 p = g_.positions[static_cast<std::size_t>(id)];
+        // To the region's nearest point, or a little inside it from there where that is a
+        // corner (a street along the region's side would enter it nowhere).
+        const Vec2 nearest = nearest_on_ring(p);
+        Vec2 towards = nearest - p;
+        if (towards.norm() < 1e-9) continue;
+        if (entry_distance(p, towards.normalized(), reach) < 0 || !inside(region_, p + towards + 0.25 * typical_ * towards.normalized())) {
+            Vec2 centre = Vec2::Zero();
+            for (const Vec2& q : region_) centre += q;
+            centre /= static_cast<double>(region_.size());
+            towards = nearest + 0.25 * typical_ * (centre - nearest).normalized() - p;
+        }
+        if (s_.grid_angle) {
+            // Along the grid: of its four ways, the one nearest the region's way that enters it.
+            std::optional<Vec2> along;
+            for (int k = 0; k < 4; ++k) {
+                const Vec2 d = unit(*s_.grid_angle + k * M_PI / 2);
+                const double enters = entry_distance(p, d, reach);
+                // (Not a long way round along the region's side to where it enters.)
+                if (enters >= 0 && enters <= 1.5 * away + typical_ && (!along || d.dot(towards) > along->normalized().dot(towards))) along = enters * d;
+            }
+            if (!along) continue;
+            towards = *along;
+        }
+        if (clearance(id, towards) < M_PI / 3) continue;
+        // Straight on a little into the region, across no street on the way.
+        const Vec2 end = p + towards + 0.25 * typical_ * towards.normalized();
+        if (first_hit({p, end}, id)) continue;
+        Street s;
+        s.from = id;
+        s.heading = angle_of(towards);
+        const auto& at = adjacency_[static_cast<std::size_t>(id)];
+        // Of the class of the street it leaves from, where tracing lays such streets.
+        s.highway = traced_class(g_.edge_highway[static_cast<std::size_t>(at.front())]) ? g_.edge_highway[static_cast<std::size_t>(at.front())]
+                                                                                        : common_class_;
+        s.main = main_class(s.highway);
+        return std::pair{towards.norm(), s};
+    }
+    return std::nullopt;
 }
 
 void Tracer::join_close_ends() {

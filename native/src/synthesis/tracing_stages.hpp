@@ -342,6 +342,11 @@ private:
     // that points into the region, close enough to reach it with one street.
     void seed();
 
+    // Where none does (TracingSettings::no_street_reaches): one street from the city's vertex
+    // nearest the region that reaches it straight, crossing nothing (within `reach`), to
+    // trace the district from, as a new district is reached by a road from the town.
+    std::optional<std::pair<double, Street>> access_seed(double reach) const;
+
     // The point of the region's border nearest p.
     Vec2 nearest_on_ring(const Vec2& p) const;
 
@@ -465,6 +470,7 @@ private:
     static constexpr double empty_reach = 2.0;
     double empty_share_ = 1.0;
     double expected_streets_ = 1.0;
+    double region_size_ = 0.0; // the region's widest extent from its first corner
     const double min_angle_ = M_PI / 6;
     // No new junction within this many typical streets of another: the spacing of junctions.
     const double crowd_ = 0.5;

@@ -157,7 +157,7 @@ struct GrowReport {
     std::size_t rejected_small_block = 0; // a new street closing a block smaller than the city's
     std::size_t rejected_star = 0;     // a junction of more than four streets
     std::size_t rejected_sharp = 0;    // a new street meeting another at a sharp corner
-    std::size_t traced_seeds = 0;       // streets reaching the region that were traced on into it
+    std::size_t traced_seeds = 0;       // streets reaching the region that were traced on into it (where none does: the one laid to it)
     std::size_t traced_streets = 0;     // streets added by tracing
     std::size_t traced_joined = 0;      // traced streets that ended at a junction already there
     std::size_t traced_t_junctions = 0; // traced streets that ended on a street, split there
