@@ -14,6 +14,8 @@ Writes
                              between them grown with the grammar of each (the paper's Figure 18)
   synthesis_infill.png       the infill test (scripts/bench_infill.py): a hole cut out of three
                              cities, its real streets beside the ones grown back (seed 1)
+  synthesis_beside.png       a district drawn beside Washington and beside Barcelona's Eixample,
+                             where no street of the city reaches, grown from the street laid to it
 """
 import argparse
 import os
@@ -162,6 +164,31 @@ def infill_figure(out):
     plt.close(fig)
 
 
+# Regions drawn beside a city, where none of its streets reaches (the test
+# Growth.ADistrictBesideTheCityIsReachedByAStreetAndGrownAsDenseAsTheCity grows the same).
+BESIDE = [("washington_dc.osm.pbf", "Washington, D.C.", (5733, -1100), (8000, 1100)),
+          ("barcelona_eixample.osm", "Barcelona's Eixample", (1900, 100), (2900, 1100))]
+
+
+def beside_figure(out):
+    fig, axes = plt.subplots(1, len(BESIDE), figsize=(6.5 * len(BESIDE), 6.2))
+    for ax, (name, title, lo, hi) in zip(axes, BESIDE):
+        graph = ggg.read_graph(str(OSM / name))
+        grammar, _ = ggg.learn(graph)
+        corners = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]], dtype=float)
+        grown, report = ggg.grow_region(graph, grammar, corners, seed=1)
+        draw_lines(ax, grown, 0, graph.edge_count, "#aaaaaa", 0.6)
+        draw_lines(ax, grown, graph.edge_count, None, "#c0392b", 0.9)
+        ax.plot(*np.vstack([corners, corners[:1]]).T, color="#2471a3", ls="--", lw=0.8)
+        side = max(hi[0] - lo[0], hi[1] - lo[1])
+        frame(ax, (lo[0] - 0.9 * side, lo[1] - 0.25 * side), (hi[0] + 0.1 * side, hi[1] + 0.25 * side),
+              "{}: a district beside it ({:,} new streets)".format(title, grown.edge_count - graph.edge_count))
+    fig.text(0.99, 0.005, CREDIT, ha="right", fontsize=7, color="#666666")
+    fig.tight_layout()
+    fig.savefig(out, dpi=90, metadata=PNG_METADATA)
+    plt.close(fig)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--out-dir", default=str(REPO / "docs" / "figures"))
@@ -173,7 +200,9 @@ def main():
     replacement_figure(out / "synthesis_replacement.png")
     stitch_figure(out / "synthesis_stitch.png")
     infill_figure(out / "synthesis_infill.png")
-    print("wrote", out / "synthesis_replacement.png", out / "synthesis_stitch.png", "and", out / "synthesis_infill.png")
+    beside_figure(out / "synthesis_beside.png")
+    print("wrote", *(out / f for f in ("synthesis_replacement.png", "synthesis_stitch.png", "synthesis_infill.png",
+                                       "synthesis_beside.png")))
 
 
 if __name__ == "__main__":
