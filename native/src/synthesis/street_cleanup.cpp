@@ -48,17 +48,25 @@ GeometricGraph rebuilt(const GeometricGraph& g, const std::vector<char>& drop_ve
 // street that crosses another street (each stage checks as it goes; this catches what
 // their combination lets through) is taken out again, the newer of two grown ones.
 std::size_t remove_crossing_streets(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges) {
-    RTree<EdgeEntry> pieces;
+    if (g.edge_count() <= base_edges) return 0;
+    // Only pieces that can meet a grown street are indexed (those in the box around all of
+    // them), and the index is packed at once: built piece by piece over a whole metro's
+    // streets, it took 1.6 s of a 10 s growth, twice.
+    Box reach = edge_box(g, static_cast<EdgeId>(base_edges));
+    for (std::size_t e = base_edges + 1; e < g.edge_count(); ++e) bg::expand(reach, edge_box(g, static_cast<EdgeId>(e)));
+    std::vector<EdgeEntry> entries;
     std::vector<std::pair<std::size_t, std::size_t>> piece_of; // (edge, piece)
     for (std::size_t e = 0; e < g.edge_count(); ++e) {
+        if (!bg::intersects(edge_box(g, static_cast<EdgeId>(e)), reach)) continue;
         const Vec2* p = g.geometry_begin(static_cast<EdgeId>(e));
         for (std::size_t i = 0; i + 1 < g.geometry_size(static_cast<EdgeId>(e)); ++i) {
             Box box(point(p[i]), point(p[i]));
             bg::expand(box, point(p[i + 1]));
-            pieces.insert({box, static_cast<EdgeId>(piece_of.size())});
+            entries.push_back({box, static_cast<EdgeId>(piece_of.size())});
             piece_of.emplace_back(e, i);
         }
     }
+    const RTree<EdgeEntry> pieces(entries.begin(), entries.end());
     std::vector<char> drop_edge(g.edge_count(), 0);
     std::size_t dropped = 0;
     for (std::size_t e = base_edges; e < g.edge_count(); ++e) {
