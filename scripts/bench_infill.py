@@ -155,6 +155,61 @@ def main_road_share(graph, keep_edge):
     return float(lengths[keep_edge & main].sum() / total) if total > 0 else float("nan")
 
 
+def sharp_turns_per_km(graph, keep_edge, sharp_deg=45.0, step_m=5.0):
+    """Turns sharper than `sharp_deg` along the streets of `graph`'s edges where `keep_edge` is
+    True, per km of them: the streets are followed from junction to junction (or dead end)
+    through the vertices of two streets, their polylines thinned to points `step_m` apart
+    (so that a map's tiny jogs do not count), and every turn between two pieces counted. A
+    city's streets turn a corner without a junction a few times a km at most; a street of a
+    grown district that does so far more often looks drawn, not built."""
+    edges = np.asarray(graph.edges)
+    offsets, points = graph.edge_geometry()
+    # A vertex is a junction by its streets in the whole graph: where the kept edges are cut
+    # out of a city, a crossing at their edge keeps two of its streets, and is no bend.
+    degree = np.bincount(edges.ravel(), minlength=graph.vertex_count)
+    at = {}
+    for e in np.flatnonzero(keep_edge):
+        for v in edges[e]:
+            at.setdefault(int(v), []).append(int(e))
+
+    def bend(v):
+        return degree[v] == 2 and len(at.get(v, [])) == 2
+
+    def line_from(e, v):
+        line = points[offsets[e]:offsets[e + 1]]
+        return line if edges[e][0] == v else line[::-1]
+
+    used, turns, metres = set(), 0, 0.0
+    for start, around in at.items():
+        if bend(start):
+            continue
+        for e in around:
+            if e in used:
+                continue
+            used.add(e)
+            parts, v = [line_from(e, start)], int(edges[e][1] if edges[e][0] == start else edges[e][0])
+            while bend(v):
+                nxt = at[v][0] if at[v][1] == e else at[v][1]
+                if nxt in used:
+                    break
+                used.add(nxt)
+                parts.append(line_from(nxt, v)[1:])
+                e, v = nxt, int(edges[nxt][1] if edges[nxt][0] == v else edges[nxt][0])
+            line = np.concatenate(parts)
+            metres += float(np.linalg.norm(np.diff(line, axis=0), axis=1).sum())
+            kept = [line[0]]
+            for q in line[1:]:
+                if np.linalg.norm(q - kept[-1]) >= step_m:
+                    kept.append(q)
+            if len(kept) < 3:
+                continue
+            d = np.diff(np.array(kept), axis=0)
+            heading = np.arctan2(d[:, 1], d[:, 0])
+            turn = np.abs((np.diff(heading) + np.pi) % (2 * np.pi) - np.pi)
+            turns += int(np.sum(turn > np.radians(sharp_deg)))
+    return turns / (metres / 1000.0) if metres > 0 else float("nan")
+
+
 def crosses_hole(graph, hole):
     """Per edge, whether the hole takes any of it."""
     offsets, points = graph.edge_geometry()
@@ -374,6 +429,8 @@ def measure(city, seeds):
     real_four_way = four_way_share(graph, in_hole)
     ring_four_way = four_way_share(graph, in_outer & ~in_hole)
     real_main = main_road_share(graph, taken)
+    real_turns = sharp_turns_per_km(graph, taken)
+    ring_turns = sharp_turns_per_km(graph, (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~taken)
     ring_main = main_road_share(graph, (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~taken)
     corners = np.array([[hole[0], hole[1]], [hole[2], hole[1]], [hole[2], hole[3]], [hole[0], hole[3]]])
     rest_degree = np.bincount(np.asarray(rest.edges).ravel(), minlength=rest.vertex_count)
@@ -398,12 +455,14 @@ def measure(city, seeds):
         c = ggg.compare(part, real)
         rows.append({
             "city": city, "seed": seed, "fill": len(new_edges) / max(1, real.edge_count),
+            "ring_fill": ring.edge_count / max(1, real.edge_count),
             "continued": continued, "joined": joined,
             "stars": c["a"]["star_share"], "real_stars": c["b"]["star_share"],
             "four_way": four_way_share(grown, inside(grown.positions, *hole) & (np.arange(grown.vertex_count) >= rest.vertex_count)),
             "real_four_way": real_four_way, "ring_four_way": ring_four_way,
             "main": main_road_share(grown, np.arange(grown.edge_count) >= rest.edge_count), "real_main": real_main,
             "ring_main": ring_main,
+            "turns": sharp_turns_per_km(grown, np.arange(grown.edge_count) >= rest.edge_count), "real_turns": real_turns, "ring_turns": ring_turns,
             "right": c["a"]["right_angle_share"], "real_right": c["b"]["right_angle_share"],
             "ring_right": floor["a"]["right_angle_share"],
             "dead": inner_dead_end_share(part, hole), "real_dead": inner_dead_end_share(real, hole),
@@ -419,6 +478,34 @@ def measure(city, seeds):
             "squared": report["squared_junctions"],
         })
     return rows
+
+
+def misses(r):
+    """The targets run `r` misses, each with whether the ring (another part of the same city,
+    measured against the real hole the same way) meets it."""
+    out = []
+
+    def miss(what, ring_meets):
+        out.append(what + ("" if ring_meets else " (the ring's too)"))
+
+    if not 0.6 <= r["fill"] <= 1.6:
+        miss("fill {:.2f} (ring {:.2f})".format(r["fill"], r["ring_fill"]), 0.6 <= r["ring_fill"] <= 1.6)
+    if r["continued"] < 0.85:
+        miss("severed streets continued {:.2f}".format(r["continued"]), True)
+    if r["joined"] < 0.98:
+        miss("grown vertices joined {:.2f}".format(r["joined"]), True)
+    if r["stars"] > 0.01:
+        miss("star junctions {:.3f}".format(r["stars"]), True)
+    if r["right"] < r["real_right"] - 0.08:
+        miss("right angles {:.2f} (real {:.2f}, ring {:.2f})".format(r["right"], r["real_right"], r["ring_right"]),
+             r["ring_right"] >= r["real_right"] - 0.08)
+    if r["dead"] > r["real_dead"] + 0.05:
+        miss("dead ends {:.2f} (real {:.2f})".format(r["dead"], r["real_dead"]), True)
+    if r["mean"] > 1.5 * r["ring_mean"]:
+        miss("compare distance {:.2f}x the ring's".format(r["mean"] / max(r["ring_mean"], 1e-9)), True)
+    if r["crossings"]:
+        miss("{} crossings".format(r["crossings"]), True)
+    return out
 
 
 def fmt(x, digits=2):
@@ -440,15 +527,20 @@ def main():
         for r in rows:
             print("{city} seed {seed}: fill {fill:.2f}, continued {continued:.2f}, joined {joined:.2f}, stars {stars:.3f} "
                   "(real {real_stars:.3f}), 4-way {four_way:.2f} (real {real_four_way:.2f}, ring {ring_four_way:.2f}), right angles {right:.2f} (real {real_right:.2f}, ring {ring_right:.2f}), dead ends {dead:.2f} "
-                  "(real {real_dead:.2f}), main roads {main:.2f} (real {real_main:.2f}, ring {ring_main:.2f}), degree 2 {deg2:.2f} (real {real_deg2:.2f}), through {through:.2f} "
+                  "(real {real_dead:.2f}), main roads {main:.2f} (real {real_main:.2f}, ring {ring_main:.2f}), sharp turns/km {turns:.2f} (real {real_turns:.2f}, ring {ring_turns:.2f}), degree 2 {deg2:.2f} (real {real_deg2:.2f}), through {through:.2f} "
                   "(real {real_through:.2f}), circuity {circuity} (real {real_circuity}), compare mean {mean:.3f} "
                   "(ring {ring_mean:.3f}, {ratio:.2f}x), crossings {crossings}, T's squared {squared}; learn {learn_s:.1f} s, grow {grow_s:.1f} s"
                   .format(ratio=r["mean"] / max(r["ring_mean"], 1e-9), **r), flush=True)
+    missed = [(r, misses(r)) for r in all_rows]
+    missed = [(r, m) for r, m in missed if m]
+    print("\n{} of {} runs miss a target{}".format(len(missed), len(all_rows), ":" if missed else "."))
+    for r, m in missed:
+        print("  {} seed {}: {}".format(r["city"].split(".")[0], r["seed"], "; ".join(m)))
     if args.markdown:
-        print("\n| city | kind | fill | severed streets continued | grown vertices joined | star junctions (real) "
-              "| 4-way junctions (real; ring) | right angles (real; ring) | dead ends (real) | main roads (real; ring) | degree 2 (real) | through streets (real) | circuity (real) "
+        print("\n| city | kind | fill (ring) | severed streets continued | grown vertices joined | star junctions (real) "
+              "| 4-way junctions (real; ring) | right angles (real; ring) | dead ends (real) | main roads (real; ring) | sharp turns a km (real; ring) | degree 2 (real) | through streets (real) | circuity (real) "
               "| compare mean / ring's | crossings |")
-        print("|---|---|" + "---:|" * 13)
+        print("|---|---|" + "---:|" * 14)
         for city in args.cities.split(","):
             rows = [r for r in all_rows if r["city"] == city]
 
@@ -456,11 +548,12 @@ def main():
                 values = [r[key] for r in rows if r[key] is not None and not math.isnan(r[key])]
                 return sum(values) / len(values) if values else float("nan")
 
-            print("| {} | {} | {} | {} | {} | {} ({}) | {} ({}; {}) | {} ({}; {}) | {} ({}) | {} ({}; {}) | {} ({}) | {} ({}) | {} ({}) | {}× | {} |".format(
-                city.split(".")[0], CITIES.get(city, ""), fmt(mean("fill")), fmt(mean("continued")), fmt(mean("joined")),
+            print("| {} | {} | {} ({}) | {} | {} | {} ({}) | {} ({}; {}) | {} ({}; {}) | {} ({}) | {} ({}; {}) | {} ({}; {}) | {} ({}) | {} ({}) | {} ({}) | {}× | {} |".format(
+                city.split(".")[0], CITIES.get(city, ""), fmt(mean("fill")), fmt(mean("ring_fill")), fmt(mean("continued")), fmt(mean("joined")),
                 fmt(mean("stars"), 3), fmt(mean("real_stars"), 3),
                 fmt(mean("four_way")), fmt(mean("real_four_way")), fmt(mean("ring_four_way")), fmt(mean("right")), fmt(mean("real_right")), fmt(mean("ring_right")),
-                fmt(mean("dead")), fmt(mean("real_dead")), fmt(mean("main")), fmt(mean("real_main")), fmt(mean("ring_main")), fmt(mean("deg2")), fmt(mean("real_deg2")),
+                fmt(mean("dead")), fmt(mean("real_dead")), fmt(mean("main")), fmt(mean("real_main")), fmt(mean("ring_main")),
+                fmt(mean("turns"), 1), fmt(mean("real_turns"), 1), fmt(mean("ring_turns"), 1), fmt(mean("deg2")), fmt(mean("real_deg2")),
                 fmt(mean("through")), fmt(mean("real_through")), fmt(mean("circuity")), fmt(mean("real_circuity")),
                 fmt(mean("mean") / max(mean("ring_mean"), 1e-9), 1), sum(r["crossings"] for r in rows)))
         print("\nTargets: " + TARGETS)
