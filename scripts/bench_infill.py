@@ -420,8 +420,8 @@ def measure(city, seeds):
     # inside, or passing through).
     taken = crosses_hole(graph, hole)
     real, _ = subgraph(graph, np.zeros(graph.vertex_count, dtype=bool), taken)
-    ring, _ = subgraph(graph, np.zeros(graph.vertex_count, dtype=bool),
-                       (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~taken)
+    ring_edges = (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~taken
+    ring, _ = subgraph(graph, np.zeros(graph.vertex_count, dtype=bool), ring_edges)
     t = time.perf_counter()
     grammar, stats = ggg.learn(rest)
     learn_seconds = time.perf_counter() - t
@@ -430,8 +430,8 @@ def measure(city, seeds):
     ring_four_way = four_way_share(graph, in_outer & ~in_hole)
     real_main = main_road_share(graph, taken)
     real_turns = sharp_turns_per_km(graph, taken)
-    ring_turns = sharp_turns_per_km(graph, (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~taken)
-    ring_main = main_road_share(graph, (in_outer[edges[:, 0]] | in_outer[edges[:, 1]]) & ~taken)
+    ring_turns = sharp_turns_per_km(graph, ring_edges)
+    ring_main = main_road_share(graph, ring_edges)
     corners = np.array([[hole[0], hole[1]], [hole[2], hole[1]], [hole[2], hole[3]], [hole[0], hole[3]]])
     rest_degree = np.bincount(np.asarray(rest.edges).ravel(), minlength=rest.vertex_count)
     rows = []

@@ -154,10 +154,10 @@ std::size_t dissolve_bends(GeometricGraph& g, std::size_t base_vertices, std::si
     auto chain_attributes = [&](const std::vector<EdgeId>& chain, VertexId start) {
         EdgeId longest = chain.front();
         double most = -1.0;
-        bool along = true, longest_along = true; // the piece runs from its first vertex on along the walk
+        bool longest_along = true; // the longest piece runs from its first vertex on along the walk
         VertexId from = start;
         for (const EdgeId e : chain) {
-            along = g.edges[static_cast<std::size_t>(e)][0] == from;
+            const bool along = g.edges[static_cast<std::size_t>(e)][0] == from;
             if (const double length = g.edge_length(e); length > most) most = length, longest = e, longest_along = along;
             from = other(e, from);
         }
