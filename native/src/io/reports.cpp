@@ -85,6 +85,7 @@ nlohmann::json growth_report_json(const GrowReport& r) {
         {"traced_crossed", r.traced_crossed},
         {"traced_empty_ground", r.traced_empty_ground},
         {"traced_joined_offsets", r.traced_joined_offsets},
+        {"traced_closed_corners", r.traced_closed_corners},
         {"traced_offset_crossings", r.traced_offset_crossings},
         {"thinned_streets", r.thinned_streets},
         {"traced_junction_islands", r.traced_junction_islands},

@@ -134,6 +134,7 @@ GeometricGraph Grower::run(GrowReport& report) {
         report.traced_crossed = traced.crossed;
         report.traced_empty_ground = traced.empty_ground;
         report.traced_joined_offsets = traced.joined_offsets;
+        report.traced_closed_corners = traced.closed_corners;
         report.traced_offset_crossings = traced.offset_crossings;
         report.traced_junction_islands = traced.junction_islands;
         street_density_ = traced.density;

@@ -267,6 +267,37 @@ std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::
             const HighwayClass h = g.edge_highway[static_cast<std::size_t>(a.edge)];
             if (highway_rank(h) < highway_rank(ring.highway)) ring.highway = h;
         }
+        // The ring's arcs: each a polyline of pieces of 15 degrees at most between two arms.
+        std::vector<std::vector<Vec2>> arcs;
+        for (std::size_t k = 0; k < arms.size(); ++k) {
+            const std::size_t next = (k + 1) % arms.size();
+            const double from = arms[k].angle;
+            const double to = next ? arms[next].angle : arms[0].angle + 2 * M_PI;
+            const auto steps = static_cast<int>(std::ceil((to - from) / (M_PI / 12)));
+            std::vector<Vec2> arc;
+            for (int s = 0; s <= steps; ++s) {
+                const double a = from + (to - from) * s / steps;
+                arc.push_back(c + r * Vec2(std::cos(a), std::sin(a)));
+            }
+            arc.front() = arms[k].rest.front();
+            arc.back() = arms[next].rest.front();
+            arcs.push_back(std::move(arc));
+        }
+        // An arm that leaves the ring at a graze may cut across the chord of an arc next to it
+        // (the arms keep out of the circle, the arcs' chords run inside it): no roundabout
+        // there (Malta's infill test grew one).
+        auto cuts_an_arc = [&](const Arm& arm) {
+            for (const std::vector<Vec2>& arc : arcs) {
+                for (std::size_t i = 0; i + 1 < arm.rest.size(); ++i) {
+                    for (std::size_t k = 0; k + 1 < arc.size(); ++k) {
+                        const auto m = segment_meeting(arm.rest[i], arm.rest[i + 1], arc[k], arc[k + 1]);
+                        if (m && m->first > 1e-9 && m->first < 1 - 1e-9 && m->second > 1e-9 && m->second < 1 - 1e-9) return true;
+                    }
+                }
+            }
+            return false;
+        };
+        if (std::any_of(arms.begin(), arms.end(), cuts_an_arc)) continue;
         std::vector<VertexId> on_ring;
         for (const Arm& a : arms) {
             const VertexId w = g.add_vertex(a.rest.front());
@@ -276,20 +307,7 @@ std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::
             added.push_back({w, a.far, std::move(attributes), a.rest});
             replaced_edge[static_cast<std::size_t>(a.edge)] = 1;
         }
-        for (std::size_t k = 0; k < arms.size(); ++k) {
-            const std::size_t next = (k + 1) % arms.size();
-            const double from = arms[k].angle;
-            const double to = next ? arms[next].angle : arms[0].angle + 2 * M_PI;
-            const auto steps = static_cast<int>(std::ceil((to - from) / (M_PI / 12))); // 15 degrees a piece at most
-            std::vector<Vec2> arc;
-            for (int s = 0; s <= steps; ++s) {
-                const double a = from + (to - from) * s / steps;
-                arc.push_back(c + r * Vec2(std::cos(a), std::sin(a)));
-            }
-            arc.front() = arms[k].rest.front();
-            arc.back() = arms[next].rest.front();
-            added.push_back({on_ring[k], on_ring[next], ring, std::move(arc)});
-        }
+        for (std::size_t k = 0; k < arms.size(); ++k) added.push_back({on_ring[k], on_ring[(k + 1) % arms.size()], ring, std::move(arcs[k])});
         centre[static_cast<std::size_t>(v)] = 1;
         made.emplace_back(c, r);
     }

@@ -68,6 +68,9 @@ TracingReport Tracer::run() {
             queue_.pop();
             if (steps % 256 == 0) report(progress_, std::min(0.99, static_cast<double>(report_.streets) / static_cast<double>(expected_streets_)), "tracing streets");
             trace(street);
+            // A corner is closed as soon as it is left, before other streets take the ground
+            // (closed after them, a district grew a tenth more streets).
+            if (!street.closes_corner) close_corner(street.from, street.generation + 1);
         }
     };
     drain();
@@ -78,6 +81,8 @@ TracingReport Tracer::run() {
         drain();
         if (report_.streets == before) break;
     }
+    close_corners();
+    drain();
     offset_crossings();
     junction_islands();
     join_close_ends();
@@ -125,15 +130,43 @@ void Tracer::retry(const Street& s) {
 
 void Tracer::trace(const Street& s) {
     if (degree(s.from) >= 4) return;
+    if (s.closes_corner && !corner_at(s.from)) return; // the other street closed it first
     std::vector<Vec2> line = lay(s);
     if (line.size() < 2 || clearance(s.from, line[1] - line[0]) < min_angle_) return;
-    // A street is traced only where the streets around are not yet as dense as the city's.
-    // The streets that join the city always are, and so is one street on from each street's
-    // end: a dead end only where the city's junctions have them. A street going on across a
-    // crossing is let on up to half again the city's density: it turns a T-junction into the
-    // crossing the city would have there, and without it a grid grows staggered T's.
-    if (s.generation > 0 && degree(s.from) >= 2 && denser_than_city(line, s.through ? 1.5 : 1.0)) {
+    if (s.closes_corner) {
+        // It goes on until the first street it meets, or not at all: a street that ended
+        // in the open would open a junction there, and corners with it. It is let on up to a
+        // quarter again the city's density where it would end (corner_slack): it makes the
+        // junction the corner was meant to be.
+        std::vector<Vec2> reach = line;
+        if (const auto hit = first_hit(line, s.from)) {
+            reach.resize(hit->piece + 1);
+            reach.push_back(hit->where);
+        }
+        if (s.generation > 0 && denser_than_city(reach, corner_slack)) {
+            ++report_.dense;
+            return;
+        }
+        if (settle(s, line) == Settled::joined) ++report_.closed_corners;
+        else drop();
+        return;
+    }
+    // A street is traced only where the streets around are not yet as dense as the city's;
+    // the streets that join the city always are. A street going on across a crossing is let
+    // on up to half again the city's density: it turns a T-junction into the crossing the
+    // city would have there, and without it a grid grows staggered T's. (The first street
+    // on from a street's end was let on whatever the density, so that a street ended in a
+    // dead end only where the city's junctions have them; with a dead end left so going on
+    // straight to the street it meets (close_corner), it is held to the density too, but for
+    // the street on from a street of the base: a street of the city continued into the region
+    // and ended there would be a stub, cut when growth ends.)
+    const std::size_t held_from = s.generation > 1 ? 1 : 2;
+    if (s.generation > 0 && degree(s.from) >= held_from && denser_than_city(line, s.through ? 1.5 : 1.0)) {
         ++report_.dense;
+        if (degree(s.from) == 1) {
+            if (dense_end_.size() <= static_cast<std::size_t>(s.from)) dense_end_.resize(g_.vertex_count(), 0);
+            dense_end_[static_cast<std::size_t>(s.from)] = 1;
+        }
         return;
     }
     // Where the example is a bend of the street (a junction with one street on, of the same
@@ -170,6 +203,52 @@ void Tracer::trace(const Street& s) {
         open_end(s, line, &example, mirror);
         return;
     }
+}
+
+bool Tracer::corner_at(VertexId v) const {
+    if (static_cast<std::size_t>(v) < base_vertices_ || degree(v) < 1 || degree(v) > 2) return false;
+    // A dead end where the density stopped the street on (not one of the city's own).
+    if (degree(v) == 1) return static_cast<std::size_t>(v) < dense_end_.size() && dense_end_[static_cast<std::size_t>(v)];
+    const auto& at = adjacency_[static_cast<std::size_t>(v)];
+    const Vec2 p = g_.positions[static_cast<std::size_t>(v)];
+    const Vec2 a = (leaving(g_, at[0], v) - p).normalized(), b = (leaving(g_, at[1], v) - p).normalized();
+    return a.dot(b) > -std::cos(M_PI / 4); // a turn of more than 45 degrees
+}
+
+void Tracer::close_corner(VertexId v, std::size_t generation) {
+    // A junction opened at a street's end of which one street on was laid, turning off, is a
+    // corner: the city's streets turn one without a junction seldom (Rome's a few times in
+    // ten km, its grown streets five times as often). One of its two streets goes on
+    // straight across it, to the first street it meets, and the corner is a T-junction; a
+    // dead end goes on the same way.
+    const auto i = static_cast<std::size_t>(v);
+    if (corner_tried_.size() <= i) corner_tried_.resize(g_.vertex_count(), 0);
+    if (corner_tried_[i] || !corner_at(v)) return;
+    corner_tried_[i] = 1;
+    const auto& at = adjacency_[i];
+    const Vec2 p = g_.positions[i];
+    // The street laid on from the junction first (the later street at v): going on straight
+    // across, it is the street of the junction that was not laid.
+    std::array<std::size_t, 2> order{0, 1};
+    if (at.size() == 2 && at[0] < at[1]) std::swap(order[0], order[1]);
+    for (const std::size_t k : order) {
+        if (k >= at.size()) continue;
+        Street on;
+        on.from = v;
+        on.heading = angle_of(p - leaving(g_, at[k], v));
+        on.length = corner_reach * typical_;
+        on.shape = {Vec2(0, 0), Vec2(1, 0)};
+        on.highway = g_.edge_highway[static_cast<std::size_t>(at[k])];
+        on.main = main_class(on.highway);
+        on.generation = generation;
+        on.closes_corner = true;
+        on.order = order_++;
+        queue_.push(std::move(on));
+    }
+}
+
+void Tracer::close_corners() {
+    for (std::size_t i = base_vertices_; i < g_.vertex_count(); ++i) close_corner(static_cast<VertexId>(i), std::numeric_limits<std::size_t>::max() / 2);
 }
 
 bool Tracer::open_empty_ground() {

@@ -33,6 +33,7 @@ struct TracingReport {
     std::size_t avenues = 0;      // main roads running straight across the grid laid on until two meet
     std::size_t crossed = 0;      // streets sent on across a street they met, as often as the city's junctions are crossings
     std::size_t joined_offsets = 0;   // grown offset crossings (beyond the city's share) made one crossing
+    std::size_t closed_corners = 0;   // grown corners made T-junctions: one of their streets went on across
     std::size_t offset_crossings = 0; // crossings made two T-junctions a few metres apart, as often as the city has them
     std::size_t empty_ground = 0; // streets opened into ground farther from every street than the city's is
     std::size_t junction_islands = 0; // short streets cutting the corner of a T-junction, as often as the city has them

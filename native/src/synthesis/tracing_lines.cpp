@@ -39,8 +39,9 @@ double Tracer::on_grid(double heading, const Vec2& p) const {
 
 std::vector<Vec2> Tracer::lay_from(const Vec2& p, const Street& s) const {
     // A street from the base tried again keeps the heading it is tried at: turned back onto the
-    // grid, each retry, turned a little further, would be the heading that failed again.
-    const Vec2 x = s.length * unit(s.retries > 0 ? s.heading : on_grid(s.heading, p));
+    // grid, each retry, turned a little further, would be the heading that failed again. A
+    // street going on straight across a corner keeps the line of the street it continues.
+    const Vec2 x = s.length * unit(s.retries > 0 || s.closes_corner ? s.heading : on_grid(s.heading, p));
     std::vector<Vec2> line;
     for (const Vec2& q : s.shape) line.push_back(p + Vec2(x.x() * q.x() - x.y() * q.y(), x.y() * q.x() + x.x() * q.y()));
     return line;

@@ -105,6 +105,8 @@ struct Street {
     // a new street from a junction, so the density cap that stops streets at junctions is
     // looser for it (trace).
     bool through = false;
+    // It goes on straight across a grown corner (close_corners), to the street it meets.
+    bool closes_corner = false;
     int retries = 0;         // a street from the base that reaches the region is tried again
     double min_length = 0.0; // (and must still reach into the region)
 };
@@ -278,6 +280,24 @@ private:
         std::size_t piece = 0;
     };
     std::optional<Near> nearest_street(const Vec2& p, double within, VertexId besides) const;
+
+    // Whether v is a grown vertex of two streets that turn there by more than 45 degrees, or
+    // a grown dead end where the density stopped the street on.
+    bool corner_at(VertexId v) const;
+
+    // The grown corner (or dead end) at v closed where it can be: one of its streets goes on
+    // across it (trace), queued once a vertex; and every one left, at the end.
+    void close_corner(VertexId v, std::size_t generation);
+    void close_corners();
+    std::vector<char> corner_tried_;
+    std::vector<char> dense_end_; // grown ends the density stopped the first street on from
+
+    // How far a street closing a corner goes to meet one, in typical streets, and how much
+    // denser than the city's the streets where it ends may then be. (Three typical streets
+    // made Porto's grown bearings more peaked than its own; half again the density made
+    // Washington's grown district denser than the target allows.)
+    static constexpr double corner_reach = 1.5;
+    static constexpr double corner_slack = 1.25;
 
     // Whether the streets around the line, with it, would be denser than the city's: a
     // street is traced only where the ground around it still has fewer streets than the city

@@ -167,6 +167,7 @@ struct GrowReport {
     std::size_t traced_crossed = 0;     // traced streets sent on across a street they met, as often as the city's junctions are crossings
     std::size_t traced_empty_ground = 0;     // streets opened into ground farther from every street than the city's ground around the region is
     std::size_t thinned_streets = 0; // grown streets between two grown T-junctions taken out where the grown junctions were denser than the city's
+    std::size_t traced_closed_corners = 0; // grown corners (a street turning without a junction) made T-junctions: one of the two streets went on across to the street it met
     std::size_t traced_joined_offsets = 0; // grown offset crossings (two T's a few metres apart) made one crossing, where more grew than the city has
     std::size_t traced_offset_crossings = 0; // grown crossings made two T-junctions a few metres apart, as often as the city has them
     std::size_t traced_junction_islands = 0; // short streets cutting the corner of a grown T-junction (a fork, a slip road), as often as the city has them
