@@ -6,6 +6,7 @@
 #include <array>
 #include <fstream>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
@@ -127,11 +128,15 @@ GeometricGraph grid_with_roundabouts(bool one_way) {
 
 std::vector<Vec2> east_of_grid() { return {{760, -100}, {1560, -100}, {1560, 800}, {760, 800}}; }
 
-// The round blocks of a graph with their centre in the region: (count, how many of them are
-// ringed by one-way streets driven one way round).
-std::pair<std::size_t, std::size_t> round_blocks(const GeometricGraph& g, const std::vector<Vec2>& region) {
-    const PlanarFaces faces = planar_faces(g);
+// The round blocks of a graph with their centre in the region: how many, how many of them
+// are ringed by one-way streets driven one way round, and the centres of those.
+struct RoundBlocks {
     std::size_t round = 0, one_way = 0;
+    std::vector<Vec2> roundabouts;
+};
+RoundBlocks round_blocks(const GeometricGraph& g, const std::vector<Vec2>& region) {
+    const PlanarFaces faces = planar_faces(g);
+    RoundBlocks out;
     for (std::size_t f = 0; f < faces.face_count(); ++f) {
         double perimeter = 0.0;
         Vec2 centre = Vec2::Zero();
@@ -146,10 +151,23 @@ std::pair<std::size_t, std::size_t> round_blocks(const GeometricGraph& g, const 
         centre /= static_cast<double>(last - first);
         const double area = faces.face_area[f];
         if (!(area > 0) || 4 * M_PI * area < 0.9 * perimeter * perimeter || !inside(region, centre)) continue;
-        ++round;
-        one_way += directions.size() == 1 && *directions.begin() != 0;
+        ++out.round;
+        if (directions.size() == 1 && *directions.begin() != 0) {
+            ++out.one_way;
+            out.roundabouts.push_back(centre);
+        }
     }
-    return {round, one_way};
+    return out;
+}
+
+// The distance between the nearest two of `a` and `b` (of `a` alone where b is empty).
+double nearest_pair(const std::vector<Vec2>& a, const std::vector<Vec2>& b = {}) {
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        for (std::size_t j = i + 1; j < a.size(); ++j) d = std::min(d, (a[i] - a[j]).norm());
+        for (const Vec2& q : b) d = std::min(d, (a[i] - q).norm());
+    }
+    return d;
 }
 
 } // namespace
@@ -336,7 +354,7 @@ TEST(Growth, JunctionsBecomeRoundaboutsAsOftenAsInTheBase) {
         const GeometricGraph base = grid_with_roundabouts(one_way);
         GrowReport report;
         const GeometricGraph grown = grow_region(base, learn_grammar(base).grammar, region, {}, &report);
-        const auto [round, driven_round] = round_blocks(grown, region);
+        const auto [round, driven_round, centres] = round_blocks(grown, region);
         if (!one_way) {
             // Round blocks with two-way streets round them are squares, not roundabouts.
             EXPECT_EQ(report.roundabouts, 0u);
@@ -363,10 +381,21 @@ TEST(Growth, JunctionsBecomeRoundaboutsAsOftenAsInTheBase) {
         EXPECT_EQ(round, report.roundabouts);
         EXPECT_EQ(driven_round, report.roundabouts);
         EXPECT_EQ(crossings(grown, base.edge_count()), 0u);
+        // No two closer than the base puts its own (diagonal neighbours, 141 m apart), nor
+        // closer to one of the base's: grown next to each other, 100 m apart, they made chains
+        // of roundabouts the base does not have.
+        const std::vector<Vec2> everywhere{{-1e4, -1e4}, {1e4, -1e4}, {1e4, 1e4}, {-1e4, 1e4}};
+        const std::vector<Vec2> in_base = round_blocks(base, everywhere).roundabouts;
+        ASSERT_EQ(in_base.size(), 12u);
+        const double spacing = nearest_pair(in_base);
+        EXPECT_NEAR(spacing, 100.0 * std::sqrt(2.0), 1e-6);
+        // (A centre here is the mean of the ring's vertices, which for a ring of three arms
+        // lies off the circle's centre, by less than its radius.)
+        EXPECT_GE(nearest_pair(centres, in_base), spacing - 12.0);
         GrowOptions none;
         none.roundabouts = false;
         GrowReport without;
-        EXPECT_EQ(round_blocks(grow_region(base, learn_grammar(base).grammar, region, none, &without), region).first, 0u);
+        EXPECT_EQ(round_blocks(grow_region(base, learn_grammar(base).grammar, region, none, &without), region).round, 0u);
         EXPECT_EQ(without.roundabouts, 0u);
         for (std::size_t v = 0; v < base.vertex_count(); ++v) EXPECT_EQ(grown.positions[v], base.positions[v]);
         for (std::size_t e = 0; e < base.edge_count(); ++e) EXPECT_EQ(grown.edges[e], base.edges[e]);

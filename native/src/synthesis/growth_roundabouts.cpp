@@ -106,6 +106,22 @@ CityRoundabouts roundabouts_of(const GeometricGraph& city, const std::vector<Vec
         anticlockwise += direction > 0; // a bounded face is walked anticlockwise
     }
     out.circulation = 2 * anticlockwise >= radii.size() ? 1 : -1;
+    // A district does not chain roundabouts closer than its city does (Rome's infill grew four
+    // in 200 m, where the city keeps them hundreds of metres apart).
+    if (centres.size() >= 2) {
+        std::vector<double> nearest;
+        for (std::size_t k = 0; k < centres.size(); ++k) {
+            double d = std::numeric_limits<double>::infinity();
+            for (std::size_t j = 0; j < centres.size(); ++j) {
+                if (j != k) d = std::min(d, (centres[j] - centres[k]).norm());
+            }
+            nearest.push_back(d);
+        }
+        const auto tenth = nearest.begin() + static_cast<long>(nearest.size() / 10);
+        std::nth_element(nearest.begin(), tenth, nearest.end());
+        out.spacing_m = *tenth;
+    }
+    out.centres = centres;
     // The shares among the junctions nearest the region (the parts of a city differ: a ring
     // road of roundabouts around an old town of crossings), further out until there are enough
     // of them to say. Each roundabout stands for one junction.
@@ -210,7 +226,8 @@ std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::
         // arms within the ring and a margin around it.
         const double margin = 0.5 * r;
         if (!inside(region, c) || distance_to_ring(region, c) < r + margin) continue;
-        if (std::any_of(made.begin(), made.end(), [&](const auto& m) { return (m.first - c).norm() < m.second + r + 2 * margin; })) continue;
+        if (std::any_of(made.begin(), made.end(), [&](const auto& m) { return (m.first - c).norm() < std::max(m.second + r + 2 * margin, city.spacing_m); })) continue;
+        if (std::any_of(city.centres.begin(), city.centres.end(), [&](const Vec2& m) { return (m - c).norm() < city.spacing_m; })) continue;
         const auto es = at(static_cast<std::size_t>(v));
         if (std::any_of(es.begin(), es.end(), [&](EdgeId e) { return replaced_edge[static_cast<std::size_t>(e)] != 0; })) continue;
         bool clear = true;

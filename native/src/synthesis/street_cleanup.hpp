@@ -65,6 +65,10 @@ struct CityRoundabouts {
     double share = 0.0;      // of the junctions of other streets
     double main_share = 0.0; // of the junctions a main road meets
     std::vector<double> radii_m;
+    // The centres of all of them, and how close the city puts two: the tenth percentile of the
+    // distance from each to the nearest other (0 where it has fewer than two).
+    std::vector<Vec2> centres;
+    double spacing_m = 0.0;
     int circulation = 1; // most are driven round anticlockwise (1, right-hand traffic) or clockwise (-1)
 };
 
@@ -73,8 +77,9 @@ CityRoundabouts roundabouts_of(const GeometricGraph& city, const std::vector<Vec
 // Grown junctions (of grown streets only, inside the region) made roundabouts as often as the
 // city's junctions are ones, each of the radius of one of the city's: the junction gives way to
 // a ring of one-way arcs that its streets meet. Where there is no room (another street within
-// half the radius of the ring, an arm too short, or two arms closer than 30 degrees) another
-// junction is tried. Returns how many were made.
+// half the radius of the ring, an arm too short, or two arms closer than 30 degrees), or where
+// another roundabout, grown or the city's, is closer than the city puts two, another junction
+// is tried. Returns how many were made.
 std::size_t make_roundabouts(GeometricGraph& g, std::size_t base_vertices, std::size_t base_edges, const std::vector<Vec2>& region,
                              const CityRoundabouts& city, std::mt19937_64& rng);
 
