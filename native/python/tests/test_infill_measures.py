@@ -48,7 +48,7 @@ def test_a_junction_is_no_turn_even_where_the_kept_streets_make_it_look_like_a_b
 
 def run(**changes):
     row = {"fill": 1.0, "ring_fill": 1.1, "continued": 1.0, "joined": 1.0, "stars": 0.0, "right": 0.7, "real_right": 0.7,
-           "ring_right": 0.7, "dead": 0.0, "real_dead": 0.0, "mean": 0.1, "ring_mean": 0.1, "crossings": 0}
+           "ring_right": 0.7, "dead": 0.0, "real_dead": 0.0, "ring_dead": 0.0, "mean": 0.1, "ring_mean": 0.1, "crossings": 0}
     row.update(changes)
     return row
 
@@ -62,3 +62,8 @@ def test_missed_targets_say_whether_the_ring_misses_them_too():
     (right,) = bench_infill.misses(run(right=0.72, real_right=0.87, ring_right=0.71))
     assert right.endswith("(the ring's too)")
     assert len(bench_infill.misses(run(dead=0.06, crossings=2, mean=0.16))) == 3
+    # Dead ends: the ring's share says whether another part of the city would miss too.
+    (dead,) = bench_infill.misses(run(dead=0.23, real_dead=0.16, ring_dead=0.17))
+    assert dead.startswith("dead ends 0.23 (real 0.16, ring 0.17)") and "ring's too" not in dead
+    (dead,) = bench_infill.misses(run(dead=0.06, real_dead=0.0, ring_dead=0.14))
+    assert dead.endswith("(the ring's too)")
